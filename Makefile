@@ -1,0 +1,34 @@
+# Every target creates .venv if it is missing and installs what the project needs.
+PY      ?= python3
+VENV    := .venv
+BIN     := $(VENV)/bin
+STAMP   := $(VENV)/.installed
+export MUJOCO_GL ?= egl
+
+.PHONY: demo test bench install clean
+
+$(BIN)/python:
+	$(PY) -m venv $(VENV)
+
+# torch first, pinned: on a CPU machine this takes the local CPU build and the
+# `torch>=2.2` requirement of the package is then already met (no CUDA download).
+$(STAMP): $(BIN)/python pyproject.toml
+	$(BIN)/pip install --upgrade pip setuptools
+	$(BIN)/pip install "torch==2.13.0"
+	$(BIN)/pip install -e ".[test,bench]"
+	touch $(STAMP)
+
+install: $(STAMP)
+
+demo: $(STAMP)
+	$(BIN)/objsearch-eval
+	$(BIN)/objsearch-eval --agent oracle
+
+test: $(STAMP)
+	$(BIN)/python -m pytest -q
+
+bench: $(STAMP)
+	$(BIN)/python benchmarks/bench_gridworld.py
+
+clean:
+	rm -rf $(VENV) build *.egg-info

@@ -1,0 +1,61 @@
+"""The ``objsearch`` command and its ``objsearch-eval`` shortcut.
+
+Each subcommand lives beside the code it drives, in a module that provides
+``add_parser(subparsers)``; the parser it adds sets ``func(args) -> int``. To add a
+subcommand, add its module to ``COMMANDS``.
+"""
+
+from __future__ import annotations
+
+import argparse
+import importlib
+import sys
+
+from objsearch.errors import UserError
+
+# Subcommand modules, imported only when the parser is built (each keeps heavy imports
+# inside its func).
+COMMANDS = [
+    "objsearch.eval.cli",
+]
+
+
+def build_parser() -> argparse.ArgumentParser:
+    from objsearch import __version__
+
+    parser = argparse.ArgumentParser(
+        prog="objsearch", description="Benchmark suite for goal-driven object search."
+    )
+    parser.add_argument("--version", action="version", version=f"objsearch {__version__}")
+    subparsers = parser.add_subparsers(dest="command", metavar="COMMAND", required=True)
+    for module in COMMANDS:
+        importlib.import_module(module).add_parser(subparsers)
+    return parser
+
+
+def _run(parser: argparse.ArgumentParser, argv: list[str]) -> int:
+    args = parser.parse_args(argv)
+    try:
+        return int(args.func(args) or 0)
+    except UserError as err:
+        print(f"{parser.prog}: error: {err}", file=sys.stderr)
+        return err.exit_code
+    except KeyboardInterrupt:
+        print(f"{parser.prog}: interrupted", file=sys.stderr)
+        return 130
+
+
+def main(argv: list[str] | None = None) -> int:
+    """Entry point of ``objsearch``."""
+    return _run(build_parser(), sys.argv[1:] if argv is None else argv)
+
+
+def eval_main(argv: list[str] | None = None) -> int:
+    """Entry point of ``objsearch-eval``: the same as ``objsearch eval``."""
+    from objsearch.eval.cli import build_eval_parser
+
+    return _run(build_eval_parser(prog="objsearch-eval"), sys.argv[1:] if argv is None else argv)
+
+
+if __name__ == "__main__":
+    sys.exit(main())

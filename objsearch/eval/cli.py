@@ -1,0 +1,95 @@
+"""``objsearch eval`` / ``objsearch-eval``: evaluate an agent on a suite and print the table."""
+
+from __future__ import annotations
+
+import argparse
+import sys
+
+from objsearch.errors import UserError
+
+DEFAULT_AGENT = "random"
+
+
+def _seeds(text: str) -> tuple[int, ...]:
+    try:
+        seeds = tuple(int(s) for s in text.split(",") if s.strip())
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"seeds must be comma-separated integers, e.g. 1,5,13 (got {text!r})") from None
+    if not seeds:
+        raise argparse.ArgumentTypeError("give at least one seed")
+    return seeds
+
+
+def _positive(text: str) -> int:
+    try:
+        value = int(text)
+    except ValueError:
+        value = 0
+    if value < 1:
+        raise argparse.ArgumentTypeError(f"expected a positive integer, got {text!r}")
+    return value
+
+
+def configure(parser: argparse.ArgumentParser) -> argparse.ArgumentParser:
+    from objsearch.eval.runner import PAPER_SEEDS
+    from objsearch.eval.suites import DEFAULT_SUITE
+
+    parser.add_argument("--agent", default=DEFAULT_AGENT, help=f"registered name or package.module:Class (default: {DEFAULT_AGENT})")
+    parser.add_argument("--suite", default=DEFAULT_SUITE, help=f"suite to evaluate on (default: {DEFAULT_SUITE})")
+    parser.add_argument("--split", action="append", dest="splits", metavar="NAME", help="split to run; repeat for several (default: all)")
+    parser.add_argument(
+        "--seeds", type=_seeds, default=PAPER_SEEDS, help="comma-separated evaluation seeds (default: the paper's 1,5,13,45,99)"
+    )
+    parser.add_argument("--workers", type=_positive, default=1, help="worker processes; results are identical for any number")
+    parser.add_argument("--checkpoint", help="checkpoint passed to the agent's load()")
+    parser.add_argument("--out", help="write the results JSON here")
+    parser.add_argument("--maps", help="grid world: a directory of map_XXXX.npz to use instead of the test maps")
+    parser.add_argument("--tasks", help="grid world: a JSONL task file over --maps; one split named after the file")
+    parser.add_argument("--max-steps", type=_positive, help="step limit per episode (default: the suite's)")
+    parser.add_argument("--list-agents", action="store_true", help="list the installed agents and exit")
+    parser.add_argument("--quiet", action="store_true", help="no progress bar")
+    parser.set_defaults(func=run)
+    return parser
+
+
+def add_parser(subparsers) -> None:
+    configure(subparsers.add_parser("eval", help="evaluate an agent on a suite", description=__doc__))
+
+
+def build_eval_parser(prog: str = "objsearch-eval") -> argparse.ArgumentParser:
+    return configure(argparse.ArgumentParser(prog=prog, description=__doc__))
+
+
+def run(args: argparse.Namespace) -> int:
+    from objsearch.eval.registry import registered_agents
+
+    if args.list_agents:
+        for name, target in registered_agents().items():
+            print(f"{name:<28} {target}")
+        return 0
+
+    from objsearch.eval.results import format_table
+    from objsearch.eval.runner import EvalConfig, evaluate
+    from objsearch.fileio import write_json
+
+    suite_config = {}
+    if args.maps or args.tasks:
+        if args.suite != "gridworld":
+            raise UserError("--maps/--tasks apply to the gridworld suite only")
+        suite_config.update(maps=args.maps, tasks=args.tasks)
+    if args.max_steps:
+        suite_config["max_steps"] = args.max_steps
+    config = EvalConfig(
+        agent=args.agent,
+        suite=args.suite,
+        splits=tuple(args.splits or ()),
+        seeds=args.seeds,
+        checkpoint=args.checkpoint,
+        suite_config=suite_config,
+    )
+    results = evaluate(config, workers=args.workers, progress=not args.quiet)
+    print(format_table(results))
+    if args.out:
+        write_json(args.out, results)
+        print(f"results written to {args.out}", file=sys.stderr)
+    return 0

@@ -1,0 +1,109 @@
+"""Measures over per-episode records (habitat-lab style: small functions over records).
+
+A record is a dict with at least ``success`` (bool), ``steps`` (actions taken),
+``min_steps`` (shortest-path length from the start), ``seed``, ``episode_id`` and ``goal``
+(a label for the per-goal breakdown). SPL follows Anderson et al. 2018 as the paper writes
+it: ``S * l / max(l, p)`` with l the minimal and p the actual steps.
+"""
+
+from __future__ import annotations
+
+from collections import defaultdict
+from typing import Iterable, Sequence
+
+import numpy as np
+
+BOOTSTRAP_SAMPLES = 1000
+BOOTSTRAP_SEED = 0
+CONFIDENCE = 0.95
+
+
+def episode_spl(success: bool, min_steps: int, steps: int) -> float:
+    """Success weighted by path length for one episode. ``min_steps`` = 0 (start on the goal)
+    counts as a perfect path when successful."""
+    if not success:
+        return 0.0
+    if min_steps <= 0:
+        return 1.0
+    return min_steps / max(min_steps, steps)
+
+
+def success_rate(records: Sequence[dict]) -> float:
+    return float(np.mean([r["success"] for r in records])) if records else float("nan")
+
+
+def spl(records: Sequence[dict]) -> float:
+    return float(np.mean([episode_spl(r["success"], r["min_steps"], r["steps"]) for r in records])) if records else float("nan")
+
+
+def average_steps(records: Sequence[dict]) -> tuple[float | None, float | None]:
+    """(AS, MS): mean steps and mean minimal steps over the successful episodes (None if none)."""
+    wins = [r for r in records if r["success"]]
+    if not wins:
+        return None, None
+    return float(np.mean([r["steps"] for r in wins])), float(np.mean([r["min_steps"] for r in wins]))
+
+
+def bootstrap_ci(records: Sequence[dict], measure) -> list[float]:
+    """95% percentile bootstrap interval of ``measure`` over episodes.
+
+    The unit resampled is the task (episode id): its records under all seeds move together,
+    since seeds repeat the same tasks. Fixed resampling seed, so the interval is reproducible.
+    """
+    by_task: dict = defaultdict(list)
+    for r in records:
+        by_task[r["episode_id"]].append(r)
+    tasks = list(by_task.values())
+    per_task = np.array([measure(t) for t in tasks])
+    weights = np.array([len(t) for t in tasks], dtype=float)
+    rng = np.random.default_rng(BOOTSTRAP_SEED)
+    picks = rng.integers(len(tasks), size=(BOOTSTRAP_SAMPLES, len(tasks)))
+    stats = (per_task[picks] * weights[picks]).sum(axis=1) / weights[picks].sum(axis=1)
+    alpha = (1 - CONFIDENCE) / 2
+    return [float(np.quantile(stats, alpha)), float(np.quantile(stats, 1 - alpha))]
+
+
+def _round(value):
+    return None if value is None else round(float(value), 4)
+
+
+def summarize(records: Iterable[dict]) -> dict:
+    """Summary of one split: SR, SPL, AS, MS, CIs, spread over seeds, per-goal breakdown.
+
+    Keys: ``sr``, ``spl``, ``as``, ``ms``, ``episodes`` (records), ``sr_ci``, ``spl_ci``,
+    ``sr_std``/``spl_std`` (population std of the per-seed values), ``per_seed``
+    ({seed: {sr, spl}}) and ``per_goal`` ({goal: {sr, spl, as, ms, episodes}}).
+    """
+    records = list(records)
+    if not records:
+        raise ValueError("summarize() needs at least one record")
+    avg_steps, min_steps = average_steps(records)
+    by_seed: dict = defaultdict(list)
+    by_goal: dict = defaultdict(list)
+    for r in records:
+        by_seed[r["seed"]].append(r)
+        by_goal[r["goal"]].append(r)
+    per_seed = {str(s): {"sr": _round(success_rate(rs)), "spl": _round(spl(rs))} for s, rs in sorted(by_seed.items())}
+    per_goal = {}
+    for goal, rs in sorted(by_goal.items(), key=lambda kv: str(kv[0])):
+        g_as, g_ms = average_steps(rs)
+        per_goal[str(goal)] = {
+            "sr": _round(success_rate(rs)),
+            "spl": _round(spl(rs)),
+            "as": _round(g_as),
+            "ms": _round(g_ms),
+            "episodes": len(rs),
+        }
+    return {
+        "sr": _round(success_rate(records)),
+        "spl": _round(spl(records)),
+        "as": _round(avg_steps),
+        "ms": _round(min_steps),
+        "episodes": len(records),
+        "sr_ci": [_round(v) for v in bootstrap_ci(records, success_rate)],
+        "spl_ci": [_round(v) for v in bootstrap_ci(records, spl)],
+        "sr_std": _round(np.std([success_rate(rs) for rs in by_seed.values()])),
+        "spl_std": _round(np.std([spl(rs) for rs in by_seed.values()])),
+        "per_seed": per_seed,
+        "per_goal": per_goal,
+    }

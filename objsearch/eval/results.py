@@ -1,0 +1,96 @@
+"""The results JSON (a contract read by other tools and the leaderboard) and its table.
+
+Schema (``schema_version`` 1)::
+
+    {
+      "schema_version": 1,
+      "agent": "random", "suite": "gridworld", "episode_set_version": "gridworld-v1",
+      "objsearch_version": "0.1.0", "git_commit": "<sha or null>",
+      "seeds": [1, 5, 13, 45, 99],
+      "config": {agent, suite, splits, seeds, checkpoint, suite_config},
+      "splits": {"seen-goals": {"sr", "spl", "as", "ms", "episodes", "sr_ci", "spl_ci",
+                                "sr_std", "spl_std", "per_seed", "per_goal"}, ...},
+      "episodes": [{"split", "seed", "episode_id", "goal", "success", "steps",
+                    "min_steps", "spl", "task"}, ...]
+    }
+"""
+
+from __future__ import annotations
+
+import subprocess
+from pathlib import Path
+
+from objsearch.eval.metrics import episode_spl, summarize
+
+SCHEMA_VERSION = 1
+
+
+def git_commit() -> str | None:
+    """The commit of the objsearch checkout, if it is one (None for an installed wheel)."""
+    try:
+        out = subprocess.run(
+            ["git", "rev-parse", "HEAD"],
+            cwd=Path(__file__).resolve().parent,
+            capture_output=True,
+            text=True,
+            timeout=5,
+        )
+    except (OSError, subprocess.SubprocessError):
+        return None
+    return out.stdout.strip() if out.returncode == 0 else None
+
+
+def build_results(config, suite, records: list[dict]) -> dict:
+    from objsearch import __version__
+
+    for r in records:
+        r["spl"] = round(episode_spl(r["success"], r["min_steps"], r["steps"]), 4)
+    return {
+        "schema_version": SCHEMA_VERSION,
+        "agent": config.agent,
+        "suite": suite.name,
+        "episode_set_version": suite.episode_set_version,
+        "objsearch_version": __version__,
+        "git_commit": git_commit(),
+        "seeds": list(config.seeds),
+        "config": config.to_json(),
+        "splits": {split: summarize([r for r in records if r["split"] == split]) for split in config.splits},
+        "episodes": records,
+    }
+
+
+def _fmt(value, spec=".2f") -> str:
+    return "-" if value is None else format(value, spec)
+
+
+def format_table(results: dict) -> str:
+    """The results as a text table laid out like the paper's Table 1: one column group per
+    split with SR, AS / MS and SPL, then rows with the 95% intervals and the spread (std)
+    over seeds."""
+    splits = results["splits"].values()
+    sr_w, as_w, spl_w = 6, 16, 11
+
+    def row(label: str, cells) -> str:
+        return f"{label:<14}" + "".join(f"| {c}" for c in cells)
+
+    def interval(ci) -> str:
+        return f"{_fmt(ci[0])}-{_fmt(ci[1])}"
+
+    group = sr_w + as_w + spl_w
+    lines = [
+        row("", (name.replace("-", " ").title().ljust(group) for name in results["splits"])),
+        row("Method", (f"{'SR':<{sr_w}}{'AS / MS':<{as_w}}{'SPL':<{spl_w}}" for _ in splits)),
+        row(
+            results["agent"][:14],
+            (f"{_fmt(s['sr']):<{sr_w}}{_fmt(s['as']) + ' / ' + _fmt(s['ms']):<{as_w}}{_fmt(s['spl']):<{spl_w}}" for s in splits),
+        ),
+        row("  95% CI", (f"{interval(s['sr_ci']):<{sr_w + as_w}}{interval(s['spl_ci']):<{spl_w}}" for s in splits)),
+        row("  std/seeds", (f"{_fmt(s['sr_std']):<{sr_w + as_w}}{_fmt(s['spl_std']):<{spl_w}}" for s in splits)),
+    ]
+    rule = "-" * max(len(line) for line in lines)
+    episodes = ", ".join(f"{name} {s['episodes']}" for name, s in results["splits"].items())
+    footer = (
+        f"suite {results['suite']} ({results['episode_set_version']}), "
+        f"seeds {','.join(map(str, results['seeds']))}; episodes: {episodes}"
+    )
+    return "\n".join([rule, *lines[:2], rule, *lines[2:], rule, footer])
