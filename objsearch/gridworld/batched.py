@@ -38,7 +38,8 @@ class GridTables:
         next_cell: int32 (M, HW, 4), the cell each action leads to.
         goal_cells: int32 (M, G), the cell of every goal.
         goal_dist: int16 (M, G, HW), minimal steps from every cell to every goal (-1 = none).
-        obstacle_windows: uint8 (M, HW, 7, 7), the obstacle channel seen from every cell.
+        windows: uint8 (M, HW, 1 + G, 7, 7), the full observation seen from every cell:
+            channel 0 obstacles, channel 1 + g goal g's cell (about 0.2 MB per map).
     """
 
     names: tuple[str, ...]
@@ -49,7 +50,7 @@ class GridTables:
     next_cell: np.ndarray
     goal_cells: np.ndarray
     goal_dist: np.ndarray
-    obstacle_windows: np.ndarray
+    windows: np.ndarray
 
     @classmethod
     def build(cls, maps: Sequence[GridMap]) -> "GridTables":
@@ -78,25 +79,33 @@ class GridTables:
         goal_cells = np.stack([m.goals[:, 0] * width + m.goals[:, 1] for m in maps]).astype(np.int32)
         free = ~obstacles.reshape(num_maps, cells)
 
-        # BFS from every goal of every map at once: relax dist[c] = 1 + min over moves.
-        big = np.iinfo(np.int32).max // 2
-        dist = np.full((num_maps, num_goals, cells), big, dtype=np.int32)
-        np.put_along_axis(dist, goal_cells[:, :, None], 0, axis=2)
-        map_ix = np.arange(num_maps)[:, None, None, None]
-        goal_ix = np.arange(num_goals)[None, :, None, None]
-        blocked = ~np.broadcast_to(free[:, None, :], dist.shape)
-        while True:
-            neighbours = dist[map_ix, goal_ix, next_cell[:, None, :, :]]  # (M, G, HW, 4)
-            relaxed = np.minimum(dist, neighbours.min(axis=3) + 1)
-            relaxed[blocked] = big
-            if np.array_equal(relaxed, dist):
-                break
-            dist = relaxed
-        goal_dist = np.where(dist >= big, -1, dist).astype(np.int16)
+        # BFS from every goal of every map at once, one frontier expansion per distance.
+        free_2d = ~obstacles[:, None]  # (M, 1, H, W)
+        frontier = np.zeros((num_maps, num_goals, height, width), dtype=bool)
+        goal_rows, goal_cols = np.divmod(goal_cells, width)
+        frontier[np.arange(num_maps)[:, None], np.arange(num_goals)[None, :], goal_rows, goal_cols] = True
+        visited = frontier.copy()
+        goal_dist = np.where(frontier, 0, -1).astype(np.int16)
+        distance = 0
+        while frontier.any():
+            distance += 1
+            reached = np.zeros_like(frontier)
+            reached[:, :, 1:, :] |= frontier[:, :, :-1, :]
+            reached[:, :, :-1, :] |= frontier[:, :, 1:, :]
+            reached[:, :, :, 1:] |= frontier[:, :, :, :-1]
+            reached[:, :, :, :-1] |= frontier[:, :, :, 1:]
+            frontier = reached & free_2d & ~visited
+            visited |= frontier
+            goal_dist[frontier] = distance
+        goal_dist = goal_dist.reshape(num_maps, num_goals, cells)
 
-        padded = np.pad(obstacles, ((0, 0), (HALF, HALF), (HALF, HALF)), constant_values=True)
-        windows = np.lib.stride_tricks.sliding_window_view(padded, (WINDOW, WINDOW), axis=(1, 2))
-        obstacle_windows = np.ascontiguousarray(windows.reshape(num_maps, cells, WINDOW, WINDOW)).astype(np.uint8)
+        layers = np.zeros((num_maps, 1 + num_goals, height, width), dtype=np.uint8)
+        layers[:, 0] = obstacles
+        layers[np.arange(num_maps)[:, None], 1 + np.arange(num_goals)[None, :], goal_rows, goal_cols] = 1
+        padded = np.pad(layers, ((0, 0), (0, 0), (HALF, HALF), (HALF, HALF)))
+        padded[:, 0] = np.pad(obstacles, ((0, 0), (HALF, HALF), (HALF, HALF)), constant_values=True)
+        views = np.lib.stride_tricks.sliding_window_view(padded, (WINDOW, WINDOW), axis=(2, 3))  # (M, C, H, W, 7, 7)
+        windows = np.ascontiguousarray(views.transpose(0, 2, 3, 1, 4, 5)).reshape(num_maps, cells, 1 + num_goals, WINDOW, WINDOW)
 
         return cls(
             names=tuple(m.name for m in maps),
@@ -107,7 +116,7 @@ class GridTables:
             next_cell=next_cell,
             goal_cells=goal_cells,
             goal_dist=goal_dist,
-            obstacle_windows=obstacle_windows,
+            windows=windows,
         )
 
     def map_index(self, name: str) -> int:
@@ -210,23 +219,12 @@ class BatchedGridWorld:
 
     # -- observations -----------------------------------------------------------------
     def observe(self) -> dict[str, np.ndarray]:
-        t = self.tables
-        n = self.num_envs
-        image = np.zeros((n, self.num_channels, WINDOW, WINDOW), dtype=np.uint8)
-        image[:, 0] = t.obstacle_windows[self.map_idx, self.cell]
-        rows, cols = np.divmod(self.cell, t.width)
+        windows = self.tables.windows
         if self.observation == "goal":
-            goal_cells = t.goal_cells[self.map_idx, self.goal][:, None]  # (N, 1)
-            channels = np.ones((n, 1), dtype=np.int64)
+            channels = np.stack([np.zeros_like(self.goal), 1 + self.goal], axis=1)  # (N, 2)
+            image = windows[self.map_idx[:, None], self.cell[:, None], channels]
         else:
-            goal_cells = t.goal_cells[self.map_idx]  # (N, G)
-            channels = np.broadcast_to(np.arange(1, 1 + t.num_goals), goal_cells.shape)
-        goal_rows, goal_cols = np.divmod(goal_cells, t.width)
-        dr = goal_rows - rows[:, None] + HALF
-        dc = goal_cols - cols[:, None] + HALF
-        visible = (dr >= 0) & (dr < WINDOW) & (dc >= 0) & (dc < WINDOW)
-        env, k = np.nonzero(visible)
-        image[env, channels[env, k], dr[env, k], dc[env, k]] = 1
+            image = windows[self.map_idx, self.cell]
         return {"image": image, "goal": self.goal.copy()}
 
     def positions(self) -> np.ndarray:

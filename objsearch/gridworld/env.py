@@ -100,20 +100,20 @@ class GridWorldEnv(gymnasium.Env):
         self._world.rng = self.np_random
         task = (options or {}).get("task")
         if task is None:
-            self._world.reset()
+            obs = self._world.reset()
         else:
-            self._world.reset(maps=[self._map_index(task)], goals=[task.goal], starts=[self._cell(task.start)])
+            obs = self._world.reset(maps=[self._map_index(task)], goals=[task.goal], starts=[self._cell(task.start)])
         self._done = False
-        return self._obs(), self._info(success=False)
+        return self._obs(obs), self._info(success=False)
 
     def step(self, action):
         if self._done:
             raise RuntimeError("step() called on a finished episode; call reset() first")
         if not self.action_space.contains(action):
             raise ValueError(f"invalid action {action!r}; expected an int in [0, {NUM_ACTIONS})")
-        _, reward, terminated, truncated, _ = self._world.step(np.array([action]))
+        obs, reward, terminated, truncated, _ = self._world.step(np.array([action]))
         self._done = bool(terminated[0] or truncated[0])
-        return self._obs(), float(reward[0]), bool(terminated[0]), bool(truncated[0]), self._info(bool(terminated[0]))
+        return self._obs(obs), float(reward[0]), bool(terminated[0]), bool(truncated[0]), self._info(bool(terminated[0]))
 
     def render(self):
         if self.render_mode != "rgb_array":
@@ -142,8 +142,8 @@ class GridWorldEnv(gymnasium.Env):
     def _cell(self, start) -> int:
         return int(start[0]) * self.tables.width + int(start[1])
 
-    def _obs(self) -> dict[str, Any]:
-        obs = self._world.observe()
+    @staticmethod
+    def _obs(obs: dict[str, np.ndarray]) -> dict[str, Any]:
         return {"image": obs["image"][0], "goal": int(obs["goal"][0])}
 
     def _info(self, success: bool) -> dict[str, Any]:

@@ -1,0 +1,210 @@
+"""Batched decisions of the grid-world agents: N episodes, one forward pass per level per
+step. Training (N parallel envs) and evaluation (N = 1, the agent protocol) run this same
+code, so what is trained is exactly what is evaluated.
+
+Observations are the 17-channel images of the grid world (obstacles, then one channel per
+goal). Node ids: goals 0..G-1, and G for the back-up "random" sub-goal.
+
+Per step of a hierarchical agent: envs without a sub-goal pick one among the candidates
+(visible goals other than the one under the agent, plus "random"); the low level acts on
+(obstacles, sub-goal channel), or uniformly at random for "random"; after the env step,
+``advance`` ends the options whose sub-goal was reached, whose 10 steps are spent, whose
+episode ended, or (HRL-GRG) where a later node of the plan from the sub-goal to the final
+goal came into view, and counts the GRG (training only).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import torch
+
+from objsearch_agents.grg import GoalsRelationalGraph
+from objsearch_agents.gridworld_config import GridAgentConfig
+from objsearch_agents.nets import grg_high_net, hdqn_high_net, low_level_net, seeded_init
+
+CENTRE = 3
+
+
+def visible_goals(images: np.ndarray) -> np.ndarray:
+    """bool (N, G): goals in the 7x7 window (including the one under the agent)."""
+    return images[:, 1:].any(axis=(2, 3))
+
+
+def goals_under_agent(images: np.ndarray) -> np.ndarray:
+    """bool (N, G): the goal the agent stands on."""
+    return images[:, 1:, CENTRE, CENTRE].astype(bool)
+
+
+def candidates(images: np.ndarray) -> np.ndarray:
+    """bool (N, G+1): visible goals not under the agent, and the "random" node (always)."""
+    vis = visible_goals(images) & ~goals_under_agent(images)
+    return np.concatenate([vis, np.ones((len(images), 1), dtype=bool)], axis=1)
+
+
+def goal_input(images: np.ndarray, node: np.ndarray) -> np.ndarray:
+    """uint8 (N, 2, 7, 7): obstacles and the channel of goal ``node`` (zeros for "random")."""
+    n, channels = len(images), images.shape[1]
+    out = np.zeros((n, 2, *images.shape[2:]), dtype=np.uint8)
+    out[:, 0] = images[:, 0]
+    real = node < channels - 1
+    out[real, 1] = images[np.flatnonzero(real), 1 + node[real]]
+    return out
+
+
+def candidate_inputs(images: np.ndarray, weights: np.ndarray) -> np.ndarray:
+    """float32 (N, G+1, 2, 7, 7): for every candidate node, (obstacles, its channel times its
+    weight). "random" has no cell: its channel is all ones times its weight."""
+    n, channels = len(images), images.shape[1]
+    out = np.empty((n, channels, 2, *images.shape[2:]), dtype=np.float32)
+    out[:, :, 0] = images[:, None, 0]
+    out[:, :-1, 1] = images[:, 1:] * weights[:, :-1, None, None]
+    out[:, -1, 1] = weights[:, -1, None, None]
+    return out
+
+
+def _t(x: np.ndarray) -> torch.Tensor:
+    return torch.from_numpy(np.ascontiguousarray(x, dtype=np.float32))
+
+
+class GridPolicy:
+    """Networks, GRG and the per-episode option state of N grid-world episodes."""
+
+    def __init__(self, config: GridAgentConfig, num_goals: int = 16):
+        self.config = config
+        self.num_goals = g = int(num_goals)
+        self.random_node = g
+        self.low = seeded_init(low_level_net, config.seed)
+        self.high = None
+        if config.method == "hdqn":
+            self.high = seeded_init(hdqn_high_net, config.seed + 1, g)
+        elif config.method == "hrl_grg" and config.high_level:
+            self.high = seeded_init(grg_high_net, config.seed + 1)
+        self.grg = None
+        if config.method == "hrl_grg":
+            self.grg = GoalsRelationalGraph(g + 1, config.option_steps, config.grg_gamma, observable=g)
+        self.refresh_plans()
+        self.start(0)
+
+    # -- GRG plans ----------------------------------------------------------------------
+    def refresh_plans(self) -> None:
+        """Re-plan from every node to every goal with the current GRG."""
+        if self.grg is None:
+            return
+        plans = self.grg.plans()
+        self.plan_values = plans.values  # (target, node)
+        self.plan_successors = plans.successors()  # (target, node, node)
+
+    # -- episode state --------------------------------------------------------------------
+    def start(self, num_envs: int) -> None:
+        n, g = num_envs, self.num_goals
+        self.goal = np.zeros(n, dtype=np.int64)
+        self.subgoal = np.full(n, -1, dtype=np.int64)
+        self.option_steps = np.zeros(n, dtype=np.int64)
+        self.first_seen = np.zeros((n, g), dtype=np.int64)
+        self.values = np.zeros((n, g + 1))
+        self.successors = np.zeros((n, g + 1, g + 1), dtype=bool)
+
+    def begin_episodes(self, env_ids: np.ndarray, goals: np.ndarray) -> None:
+        """New episodes in ``env_ids``: no sub-goal yet; snapshot the plans to their goals
+        (the reference plans once per episode)."""
+        self.goal[env_ids] = goals
+        self.subgoal[env_ids] = -1
+        self.option_steps[env_ids] = 0
+        self.first_seen[env_ids] = 0
+        if self.grg is not None:
+            self.values[env_ids] = self.plan_values[goals]
+            self.successors[env_ids] = self.plan_successors[goals]
+
+    def state_dict(self) -> dict:
+        keys = ("goal", "subgoal", "option_steps", "first_seen", "values", "successors")
+        return {k: getattr(self, k).copy() for k in keys}
+
+    def load_state_dict(self, state: dict) -> None:
+        for k, v in state.items():
+            setattr(self, k, np.array(v))
+
+    # -- acting -----------------------------------------------------------------------------
+    @torch.no_grad()
+    def select_subgoals(self, images: np.ndarray, epsilon: np.ndarray, rng: np.random.Generator) -> None:
+        """Give a sub-goal to every env that has none (hierarchical agents only)."""
+        need = np.flatnonzero(self.subgoal < 0)
+        if not len(need):
+            return
+        imgs, cand = images[need], candidates(images[need])
+        explore = rng.random(len(need)) < epsilon[need]
+        noise = rng.random(cand.shape)
+        if self.config.method == "hdqn":
+            onehot = np.eye(self.num_goals, dtype=np.float32)[self.goal[need]]
+            q = self.high(_t(imgs), _t(onehot)).numpy()
+            greedy = np.where(cand, q, -np.inf).argmax(axis=1)
+            uniform = np.where(cand, noise, -1.0).argmax(axis=1)
+            choice = np.where(explore, uniform, greedy)
+        else:
+            values = self.values[need]
+            if self.high is not None:
+                greedy = self._grg_q_argmax(imgs, cand, values)
+            else:  # "-high-level": the visible candidate with the best plan value
+                greedy = np.where(cand, values, -1.0).argmax(axis=1)
+            # Exploration samples softmax(plan values) over the candidates (Gumbel-max).
+            gumbel = -np.log(-np.log(np.clip(noise, 1e-12, 1 - 1e-12)))
+            soft = np.where(cand, values + gumbel, -np.inf).argmax(axis=1)
+            choice = np.where(explore, soft, greedy)
+        self.subgoal[need] = choice
+        self.option_steps[need] = 0
+        self.first_seen[need] = 0
+
+    def relation_weights(self, values: np.ndarray) -> np.ndarray:
+        return values if self.config.relation else np.ones_like(values)
+
+    def _grg_q_argmax(self, images: np.ndarray, cand: np.ndarray, values: np.ndarray, net=None) -> np.ndarray:
+        """argmax over the candidates of Q(obstacles, candidate channel * C), one forward
+        pass for all (env, candidate) pairs."""
+        net = self.high if net is None else net
+        inputs = candidate_inputs(images, self.relation_weights(values))
+        env_ix, node_ix = np.nonzero(cand)
+        q = np.full(cand.shape, -np.inf, dtype=np.float32)
+        q[env_ix, node_ix] = net(torch.from_numpy(inputs[env_ix, node_ix]))[:, 0].numpy()
+        return q.argmax(axis=1)
+
+    @torch.no_grad()
+    def actions(self, images: np.ndarray, epsilon: float | np.ndarray, rng: np.random.Generator) -> tuple[np.ndarray, np.ndarray]:
+        """Primitive actions of all envs and the low-level inputs they were chosen from.
+
+        Flat DQN acts on (obstacles, final-goal channel) with ``epsilon`` per env;
+        hierarchical agents on (obstacles, sub-goal channel), uniformly for "random".
+        """
+        n = len(images)
+        node = self.goal if not self.config.hierarchical else self.subgoal
+        low_in = goal_input(images, node)
+        q = self.low(_t(low_in)).numpy()
+        greedy = q.argmax(axis=1)
+        explore = rng.random(n) < epsilon
+        random_actions = rng.integers(q.shape[1], size=n)
+        act = np.where(explore | (node == self.random_node), random_actions, greedy)
+        return act, low_in
+
+    def advance(self, images: np.ndarray, episode_over: np.ndarray, count: bool) -> np.ndarray:
+        """Update the options after an env step (``images``: the observations it led to,
+        before any reset). Ends options, counts them into the GRG if ``count``, and returns
+        bool (N,): the options that ended."""
+        if not self.config.hierarchical:
+            return np.zeros(len(images), dtype=bool)
+        active = self.subgoal >= 0
+        self.option_steps[active] += 1
+        vis = visible_goals(images)
+        fresh = vis & (self.first_seen == 0) & active[:, None]
+        self.first_seen = np.where(fresh, self.option_steps[:, None], self.first_seen)
+        sg = np.maximum(self.subgoal, 0)
+        real = sg < self.num_goals
+        under = goals_under_agent(images)
+        reached = active & real & under[np.arange(len(sg)), np.minimum(sg, self.num_goals - 1)]
+        ended = active & (reached | (self.option_steps >= self.config.option_steps) | episode_over)
+        if self.grg is not None and self.config.termination:
+            vis_nodes = np.concatenate([vis, np.zeros((len(vis), 1), dtype=bool)], axis=1)
+            later = self.successors[np.arange(len(sg)), sg]  # (N, G+1)
+            ended |= active & (vis_nodes & later).any(axis=1)
+        if count and self.grg is not None and ended.any():
+            ix = np.flatnonzero(ended)
+            self.grg.record_options(self.subgoal[ix], self.first_seen[ix])
+        self.subgoal[ended] = -1
+        return ended

@@ -1,0 +1,104 @@
+"""The command line, run as a user runs it: in a subprocess."""
+
+import json
+import os
+import subprocess
+import sys
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from objsearch.gridworld import dataset
+from objsearch.gridworld.maps import save_map
+
+BIN = Path(sys.executable).parent
+
+
+def run(*args, cwd=None):
+    return subprocess.run([str(BIN / args[0]), *args[1:]], capture_output=True, text=True, cwd=cwd, timeout=300)
+
+
+def test_list_agents():
+    out = run("objsearch-eval", "--list-agents")
+    assert out.returncode == 0
+    names = [line.split()[0] for line in out.stdout.splitlines()]
+    assert {"random", "oracle"} <= set(names)
+
+
+def test_eval_prints_the_table_and_writes_results(tmp_path):
+    out = run("objsearch", "eval", "--agent", "oracle", "--split", "unseen-goals", "--seeds", "1,5", "--out", str(tmp_path / "r.json"), "--quiet")
+    assert out.returncode == 0, out.stderr
+    assert "Unseen Goals" in out.stdout and "AS / MS" in out.stdout
+    assert "oracle" in out.stdout and "1.00" in out.stdout
+    results = json.loads((tmp_path / "r.json").read_text())
+    assert results["agent"] == "oracle" and results["seeds"] == [1, 5]
+    assert list(results["splits"]) == ["unseen-goals"]
+    split = results["splits"]["unseen-goals"]
+    for key in ("sr", "spl", "as", "ms", "episodes", "sr_ci", "spl_ci", "per_goal"):
+        assert key in split
+    assert split["sr"] == 1.0 and len(results["episodes"]) == 200
+
+
+def test_objsearch_eval_is_objsearch_eval_subcommand(tmp_path):
+    args = ["--agent", "random", "--split", "all-goals", "--seeds", "3", "--quiet"]
+    a = run("objsearch-eval", *args, "--out", str(tmp_path / "a.json"))
+    b = run("objsearch", "eval", *args, "--out", str(tmp_path / "b.json"))
+    assert a.returncode == b.returncode == 0
+    assert a.stdout == b.stdout
+    assert json.loads((tmp_path / "a.json").read_text()) == json.loads((tmp_path / "b.json").read_text())
+
+
+def assert_clean_error(out, *needles):
+    assert out.returncode == 2, (out.returncode, out.stderr)
+    assert "Traceback" not in out.stderr
+    lines = out.stderr.strip().splitlines()
+    assert len(lines) == 1, out.stderr
+    for needle in needles:
+        assert needle in lines[0], (needle, lines[0])
+
+
+def test_unknown_agent_suite_and_split():
+    assert_clean_error(run("objsearch-eval", "--agent", "orcale"), "unknown agent 'orcale'", "did you mean 'oracle'")
+    assert_clean_error(run("objsearch-eval", "--suite", "gridwrld"), "unknown suite 'gridwrld'")
+    assert_clean_error(run("objsearch-eval", "--split", "unseen"), "unknown split 'unseen'")
+
+
+@pytest.fixture
+def user_maps(tmp_path):
+    save_map(dataset.test_maps()["map_0100"], tmp_path / "maps")
+    return tmp_path
+
+
+def test_corrupt_map_file(user_maps):
+    (user_maps / "maps" / "map_0101.npz").write_bytes(b"garbage")
+    (user_maps / "t.jsonl").write_text('{"map": "map_0100", "start": [1, 1], "goal": 0}\n')
+    out = run("objsearch-eval", "--maps", str(user_maps / "maps"), "--tasks", str(user_maps / "t.jsonl"))
+    assert_clean_error(out, "map_0101.npz")
+
+
+def test_malformed_task_line(user_maps):
+    (user_maps / "t.jsonl").write_text('{"map": "map_0100", "start": [1, 1], "goal": 0}\n{"map": "map_0100", "start": [1, 1]\n')
+    out = run("objsearch-eval", "--maps", str(user_maps / "maps"), "--tasks", str(user_maps / "t.jsonl"))
+    assert_clean_error(out, "t.jsonl:2", "malformed task line")
+
+
+def test_unreachable_goal(user_maps):
+    m = dataset.test_maps()["map_0100"]
+    dist = m.distances_to(tuple(m.goals[0]))
+    cut_off = np.argwhere((dist < 0) & (m.obstacles == 0))
+    if len(cut_off) == 0:
+        pytest.skip("map_0100 has no free cell cut off from goal 0")
+    r, c = (int(v) for v in cut_off[0])
+    (user_maps / "t.jsonl").write_text(json.dumps({"map": "map_0100", "start": [r, c], "goal": 0}) + "\n")
+    out = run("objsearch-eval", "--maps", str(user_maps / "maps"), "--tasks", str(user_maps / "t.jsonl"))
+    assert_clean_error(out, "t.jsonl:1", "cannot be reached")
+
+
+def test_maps_without_tasks():
+    assert_clean_error(run("objsearch-eval", "--maps", "somewhere"), "--maps and --tasks go together")
+
+
+def test_bad_seeds_are_rejected_by_the_parser():
+    out = run("objsearch-eval", "--seeds", "one,two")
+    assert out.returncode == 2 and "seeds must be comma-separated integers" in out.stderr
