@@ -1,8 +1,8 @@
 """The grid world as one batched numpy simulator: N environments stepped in one call.
 
 Everything per map is precomputed once into tables (next cell for every cell and action,
-BFS distances from every goal, the 7x7 obstacle window around every cell), so a step is a
-handful of array gathers whatever N is. ``GridWorldEnv`` (the Gymnasium env) is this
+BFS distances from every goal, the whole 7x7 observation seen from every cell), so a step is
+a handful of array gathers whatever N is. ``GridWorldEnv`` (the Gymnasium env) is this
 simulator with N = 1; training code uses it directly with large N.
 
 Dynamics (``shared/reference/hrl_grg_notes.md``): actions up, down, left, right; a move
@@ -100,9 +100,9 @@ class GridTables:
         goal_dist = goal_dist.reshape(num_maps, num_goals, cells)
 
         layers = np.zeros((num_maps, 1 + num_goals, height, width), dtype=np.uint8)
-        layers[:, 0] = obstacles
         layers[np.arange(num_maps)[:, None], 1 + np.arange(num_goals)[None, :], goal_rows, goal_cols] = 1
         padded = np.pad(layers, ((0, 0), (0, 0), (HALF, HALF), (HALF, HALF)))
+        # channel 0 is obstacles, and cells off the map read as obstacle
         padded[:, 0] = np.pad(obstacles, ((0, 0), (HALF, HALF), (HALF, HALF)), constant_values=True)
         views = np.lib.stride_tricks.sliding_window_view(padded, (WINDOW, WINDOW), axis=(2, 3))  # (M, C, H, W, 7, 7)
         windows = np.ascontiguousarray(views.transpose(0, 2, 3, 1, 4, 5)).reshape(num_maps, cells, 1 + num_goals, WINDOW, WINDOW)
