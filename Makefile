@@ -15,7 +15,7 @@ $(BIN)/python:
 $(STAMP): $(BIN)/python pyproject.toml
 	$(BIN)/pip install --upgrade pip setuptools
 	$(BIN)/pip install "torch==2.13.0"
-	$(BIN)/pip install -e ".[test,bench]"
+	$(BIN)/pip install -e ".[test,bench,ray]"
 	touch $(STAMP)
 
 install: $(STAMP)

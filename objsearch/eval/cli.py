@@ -30,6 +30,16 @@ def _positive(text: str) -> int:
     return value
 
 
+def _seconds(text: str) -> float:
+    try:
+        value = float(text)
+    except ValueError:
+        value = -1.0
+    if value < 0:
+        raise argparse.ArgumentTypeError(f"expected a number of seconds >= 0, got {text!r}")
+    return value
+
+
 def configure(parser: argparse.ArgumentParser) -> argparse.ArgumentParser:
     from objsearch.eval.runner import PAPER_SEEDS
     from objsearch.eval.suites import DEFAULT_SUITE
@@ -42,10 +52,18 @@ def configure(parser: argparse.ArgumentParser) -> argparse.ArgumentParser:
     )
     parser.add_argument("--workers", type=_positive, default=1, help="worker processes; results are identical for any number")
     parser.add_argument("--checkpoint", help="checkpoint passed to the agent's load()")
-    parser.add_argument("--out", help="write the results JSON here")
+    parser.add_argument(
+        "--out", help="write the results JSON here; an interrupted run resumes from OUT.partial.jsonl when rerun"
+    )
     parser.add_argument("--maps", help="grid world: a directory of map_XXXX.npz to use instead of the test maps")
     parser.add_argument("--tasks", help="grid world: a JSONL task file over --maps; one split named after the file")
     parser.add_argument("--max-steps", type=_positive, help="step limit per episode (default: the suite's)")
+    parser.add_argument(
+        "--step-time-limit", type=_seconds, default=10.0, metavar="SECONDS",
+        help="an agent call that takes longer fails its episode (default: 10; 0: no limit)",
+    )
+    parser.add_argument("--executor", choices=("local", "ray"), default="local", help="local processes or a Ray cluster")
+    parser.add_argument("--address", help="Ray cluster address (default: start a local cluster)")
     parser.add_argument("--list-agents", action="store_true", help="list the installed agents and exit")
     parser.add_argument("--quiet", action="store_true", help="no progress bar")
     parser.set_defaults(func=run)
@@ -70,7 +88,6 @@ def run(args: argparse.Namespace) -> int:
 
     from objsearch.eval.results import format_table
     from objsearch.eval.runner import EvalConfig, evaluate
-    from objsearch.fileio import write_json
 
     suite_config = {}
     if args.maps or args.tasks:
@@ -86,10 +103,16 @@ def run(args: argparse.Namespace) -> int:
         seeds=args.seeds,
         checkpoint=args.checkpoint,
         suite_config=suite_config,
+        step_time_limit=args.step_time_limit or None,
     )
-    results = evaluate(config, workers=args.workers, progress=not args.quiet)
+    results = evaluate(
+        config, workers=args.workers, progress=not args.quiet, executor=args.executor, address=args.address, out=args.out
+    )
     print(format_table(results))
+    failed = sum("error" in r for r in results["episodes"])
+    if failed:
+        first = next(r for r in results["episodes"] if "error" in r)
+        print(f"{failed} episode(s) failed with an agent error, e.g. {first['split']}/{first['episode_id']}: {first['error']}", file=sys.stderr)
     if args.out:
-        write_json(args.out, results)
         print(f"results written to {args.out}", file=sys.stderr)
     return 0
