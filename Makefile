@@ -5,7 +5,7 @@ BIN     := $(VENV)/bin
 STAMP   := $(VENV)/.installed
 export MUJOCO_GL ?= egl
 
-.PHONY: demo test bench install clean
+.PHONY: demo test bench leaderboard install clean
 
 $(BIN)/python:
 	$(PY) -m venv $(VENV)
@@ -29,6 +29,15 @@ test: $(STAMP)
 
 bench: $(STAMP)
 	$(BIN)/python benchmarks/bench_gridworld.py
+
+# Re-evaluate the shipped agents with the paper's seeds and store them on the leaderboard.
+LEADERBOARD_AGENTS ?= random oracle
+leaderboard: $(STAMP)
+	mkdir -p build
+	for agent in $(LEADERBOARD_AGENTS); do \
+	  $(BIN)/objsearch-eval --agent $$agent --quiet --out build/$$agent.json && \
+	  $(BIN)/objsearch leaderboard add build/$$agent.json --replace || exit 1; \
+	done
 
 clean:
 	rm -rf $(VENV) build *.egg-info

@@ -17,6 +17,9 @@ from objsearch.errors import UserError
 # inside its func).
 COMMANDS = [
     "objsearch.eval.cli",
+    "objsearch.leaderboard.cli",
+    "objsearch.house.cli",
+    "objsearch.train",
 ]
 
 

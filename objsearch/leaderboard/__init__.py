@@ -1,0 +1,1 @@
+"""The leaderboard: validated result submissions and the pages generated from them."""

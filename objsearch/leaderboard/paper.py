@@ -1,0 +1,28 @@
+"""The paper's published numbers (Ye et al., CVPR 2021), shown beside our rows for reference.
+
+Grid world: Tables 1 and 2 (unseen maps); values are SR, AS, MS, SPL.
+"""
+
+GRIDWORLD_SPLITS = ("seen-goals", "unseen-goals", "all-goals")
+
+_GRIDWORLD = {
+    # method: (SR, AS, MS, SPL) for seen goals, unseen goals, all goals
+    "Oracle": ((1.00, 11.81, 11.81, 1.00), (1.00, 11.28, 11.28, 1.00), (1.00, 10.38, 10.38, 1.00)),
+    "Random": ((0.16, 42.15, 5.47, 0.03), (0.15, 42.38, 4.81, 0.04), (0.18, 36.62, 4.69, 0.05)),
+    "DQN": ((0.20, 20.28, 5.47, 0.13), (0.20, 11.90, 4.10, 0.15), (0.32, 16.23, 5.71, 0.23)),
+    "h-DQN": ((0.43, 20.25, 7.95, 0.28), (0.19, 26.09, 6.38, 0.08), (0.45, 20.84, 7.16, 0.26)),
+    "HRL-GRG": ((0.57, 28.71, 9.03, 0.33), (0.70, 24.19, 8.73, 0.45), (0.74, 24.02, 8.65, 0.46)),
+    "HRL-GRG -relation": ((0.26, 33.20, 6.16, 0.10), (0.35, 31.93, 6.84, 0.14), (0.40, 29.39, 6.14, 0.18)),
+    "HRL-GRG -termination": ((0.55, 31.36, 8.81, 0.27), (0.58, 27.91, 8.11, 0.32), (0.64, 25.56, 7.88, 0.37)),
+    "HRL-GRG -high-level": ((0.56, 29.97, 9.03, 0.31), (0.65, 23.63, 8.65, 0.42), (0.66, 22.86, 7.86, 0.41)),
+}
+
+
+def paper_rows(suite: str, split: str) -> list[dict]:
+    """The paper's rows for a suite and split ([] where the paper has none)."""
+    if suite != "gridworld" or split not in GRIDWORLD_SPLITS:
+        return []
+    i = GRIDWORLD_SPLITS.index(split)
+    return [
+        {"name": name, "sr": v[i][0], "as": v[i][1], "ms": v[i][2], "spl": v[i][3]} for name, v in _GRIDWORLD.items()
+    ]

@@ -1,0 +1,160 @@
+import copy
+import json
+import os
+import shutil
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+
+from objsearch.eval.runner import EvalConfig, evaluate
+from objsearch.leaderboard.render import render, stored_submissions
+from objsearch.leaderboard.validate import check_submission
+
+ROOT = Path(__file__).resolve().parents[2]
+BIN = Path(sys.executable).parent
+
+
+@pytest.fixture(scope="module")
+def oracle_results():
+    return evaluate(EvalConfig(agent="oracle", splits=("unseen-goals",), seeds=(1, 5)), progress=False)
+
+
+@pytest.fixture(scope="module")
+def random_results():
+    return evaluate(EvalConfig(agent="random", splits=("unseen-goals",), seeds=(1, 5)), progress=False)
+
+
+def test_a_fresh_evaluation_is_valid(oracle_results, random_results):
+    assert check_submission(oracle_results) == []
+    assert check_submission(json.loads(json.dumps(random_results))) == []
+
+
+def tampered(results, change):
+    bad = copy.deepcopy(results)
+    change(bad)
+    return check_submission(bad)
+
+
+@pytest.mark.parametrize(
+    "change, message",
+    [
+        (lambda r: r.update(schema_version=99), "schema_version 99"),
+        (lambda r: r.update(suite="nosuch"), "unknown suite 'nosuch'"),
+        (lambda r: r.update(episode_set_version="gridworld-v0"), "episode set 'gridworld-v0'"),
+        (lambda r: r["episodes"].pop(3), "1 missing episode(s), e.g. unseen-goals/seed 1/episode 3"),
+        (lambda r: r["episodes"].append(dict(r["episodes"][0])), "1 duplicated episode(s)"),
+        (lambda r: r["splits"]["unseen-goals"].update(sr=0.99), "summary (sr) differs"),
+        (lambda r: r["episodes"][0].update(min_steps=1), "does not match the suite's episode"),
+        (lambda r: next(e for e in r["episodes"] if e["success"] and e["min_steps"] > 1).update(steps=1, spl=1.0), "fewer than the minimal"),
+        (lambda r: r.pop("config"), "missing field(s) config"),
+    ],
+)
+def test_tampered_submissions_are_rejected(random_results, change, message):
+    problems = tampered(random_results, change)
+    assert problems and any(message in p for p in problems), problems
+
+
+def test_changed_outcome_breaks_the_summary(random_results):
+    def flip(r):
+        ep = next(e for e in r["episodes"] if not e["success"])
+        ep["success"], ep["spl"] = True, round(min(1.0, ep["min_steps"] / max(ep["min_steps"], ep["steps"])), 4)
+
+    assert any("differs from the one recomputed" in p for p in tampered(random_results, flip))
+
+
+def test_custom_task_files_do_not_go_on_the_leaderboard(tmp_path):
+    from objsearch.gridworld import dataset
+    from objsearch.gridworld.maps import save_map
+    from objsearch.gridworld.tasks import save_tasks
+
+    save_map(dataset.test_maps()["map_0100"], tmp_path / "maps")
+    save_tasks([t for t in dataset.split_tasks("all-goals") if t.map == "map_0100"][:2], tmp_path / "mine.jsonl")
+    results = evaluate(
+        EvalConfig(agent="oracle", seeds=(1,), suite_config={"maps": str(tmp_path / "maps"), "tasks": str(tmp_path / "mine.jsonl")}),
+        progress=False,
+    )
+    assert any("not a leaderboard episode set" in p for p in check_submission(results))
+
+
+def cli(*args, cwd):
+    return subprocess.run([str(BIN / "objsearch"), "leaderboard", *args], capture_output=True, text=True, cwd=cwd, timeout=300)
+
+
+def test_add_check_and_render_through_the_cli(tmp_path, oracle_results, random_results):
+    (tmp_path / "oracle.json").write_text(json.dumps(oracle_results))
+    (tmp_path / "random.json").write_text(json.dumps(random_results))
+    bad = copy.deepcopy(random_results)
+    bad["episodes"].pop()
+    (tmp_path / "bad.json").write_text(json.dumps(bad))
+
+    for name in ("oracle", "random"):
+        out = cli("add", f"{name}.json", cwd=tmp_path)
+        assert out.returncode == 0, out.stderr
+    out = cli("add", "bad.json", "--name", "bad", cwd=tmp_path)
+    assert out.returncode == 2 and "bad.json is rejected: 1 missing episode(s)" in out.stderr
+    assert "Traceback" not in out.stderr
+    assert not (tmp_path / "leaderboard/submissions/gridworld/bad.json").exists()
+    out = cli("add", "oracle.json", cwd=tmp_path)
+    assert out.returncode == 2 and "--replace" in out.stderr
+
+    out = cli("check", cwd=tmp_path)
+    assert out.returncode == 0 and out.stdout.count("ok: ") == 2
+    out = cli("check", "bad.json", cwd=tmp_path)
+    assert out.returncode == 2
+
+    readme = (tmp_path / "leaderboard/README.md").read_text()
+    rows = [line for line in readme.splitlines() if line.startswith("| 1 ") or line.startswith("| 2 ")]
+    assert rows[0].startswith("| 1 | oracle | 1.00") and rows[1].startswith("| 2 | random |")
+    assert "*paper: HRL-GRG*" in readme
+
+
+def test_pages_come_from_the_stored_submissions_alone(tmp_path, oracle_results):
+    store = tmp_path / "submissions" / "gridworld"
+    store.mkdir(parents=True)
+    (store / "oracle.json").write_text(json.dumps(oracle_results))
+    render(tmp_path)
+    first = {p: (tmp_path / p).read_text() for p in ("README.md", "index.html")}
+    render(tmp_path)
+    assert first == {p: (tmp_path / p).read_text() for p in ("README.md", "index.html")}
+
+
+def test_the_repository_leaderboard_is_valid_and_up_to_date(tmp_path):
+    board = ROOT / "leaderboard"
+    submissions = stored_submissions(board)
+    assert submissions, "leaderboard/submissions/ holds the results of the shipped agents"
+    for name, results in submissions:
+        assert check_submission(results) == [], name
+    shutil.copytree(board / "submissions", tmp_path / "submissions")
+    render(tmp_path)
+    for page in ("README.md", "index.html"):
+        assert (tmp_path / page).read_text() == (board / page).read_text(), f"run: objsearch leaderboard render ({page})"
+
+
+def chromium() -> str | None:
+    path = shutil.which("chromium") or shutil.which("chromium-browser")
+    if path is None and os.environ.get("CI"):
+        pytest.fail("CI must have chromium (.ci/run installs Debian's package)")
+    return path
+
+
+def test_index_html_renders_the_rows_in_headless_chromium(tmp_path, oracle_results, random_results):
+    browser = chromium()
+    if browser is None:
+        pytest.skip("chromium is not installed (apt-get install chromium)")
+    store = tmp_path / "submissions" / "gridworld"
+    store.mkdir(parents=True)
+    (store / "oracle.json").write_text(json.dumps(oracle_results))
+    (store / "random.json").write_text(json.dumps(random_results))
+    render(tmp_path)
+    flags = ["--headless", "--no-sandbox", "--disable-gpu", "--disable-quic", "--no-first-run",
+             "--disable-background-networking", "--disable-component-update", "--disable-sync",
+             f"--user-data-dir={tmp_path / 'profile'}"]
+    out = subprocess.run([browser, *flags, "--dump-dom", (tmp_path / "index.html").as_uri()], capture_output=True, text=True, timeout=120)
+    dom = out.stdout
+    assert dom.count('<section class="board"') == 1, out.stderr[-2000:]
+    assert dom.count('<tr class="entry">') == 2
+    assert dom.count('<tr class="paper">') == 8
+    assert dom.index("<td>oracle</td>") < dom.index("<td>random</td>"), "ranked by SPL"
+    assert dom.count('class="point"') == 2 and dom.count('class="bar"') == 2 * 4  # 4 unseen goals each
