@@ -81,7 +81,7 @@ def format_table(results: dict) -> str:
         row("", (name.replace("-", " ").title().ljust(group) for name in results["splits"])),
         row("Method", (f"{'SR':<{sr_w}}{'AS / MS':<{as_w}}{'SPL':<{spl_w}}" for _ in splits)),
         row(
-            results["agent"][:14],
+            results["agent"].rsplit(":", 1)[-1][:14],  # a module:Class agent shows as its class
             (f"{_fmt(s['sr']):<{sr_w}}{_fmt(s['as']) + ' / ' + _fmt(s['ms']):<{as_w}}{_fmt(s['spl']):<{spl_w}}" for s in splits),
         ),
         row("  95% CI", (f"{interval(s['sr_ci']):<{sr_w + as_w}}{interval(s['spl_ci']):<{spl_w}}" for s in splits)),
