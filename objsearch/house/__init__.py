@@ -1,0 +1,8 @@
+"""Procedural MuJoCo houses: ``HouseSpec`` (pure data) -> generator stages -> MJCF.
+
+Pipeline: ``floorplan`` (footprint, rooms, types) -> ``doors`` (doors, walls) -> ``furnish``
+(functional groups, then per-room priors; placement primitives in ``layout``) ->
+``materials`` -> ``mjcf`` (the one MJCF writer) -> ``validate`` (uses ``occupancy``).
+``generate.generate_house(seed)`` runs it with bounded resampling; ``cli`` is
+``objsearch generate``. Categories: ``categories``; meshes: ``meshes`` + ``assets``.
+"""

@@ -96,7 +96,7 @@ _TABLE = [
     ("bottle", "on_top", (0.07, 0.07, 0.22), (0.1, 0.1, 0.32), GREEN + ((0.5, 0.3, 0.1),), dict(rooms={_KITCHEN: 0.5, _DINING: 0.4}, parents=("dining_table", "counter", "sideboard"), round=True, count=(1, 2))),
     ("cup", "on_top", (0.07, 0.07, 0.08), (0.1, 0.1, 0.12), CERAMIC, dict(rooms={_KITCHEN: 0.5, _DINING: 0.4, _OFFICE: 0.4, _LIVING: 0.3}, parents=("dining_table", "counter", "desk", "coffee_table", "nightstand"), round=True, count=(1, 2))),
     ("plate", "on_top", (0.2, 0.2, 0.02), (0.28, 0.28, 0.03), CERAMIC, dict(rooms={_DINING: 0.7, _KITCHEN: 0.4}, parents=("dining_table",), round=True, count=(1, 4))),
-    ("dining_table", "group", (1.2, 0.8, 0.72), (2.0, 1.0, 0.78), WOOD + WHITE, dict(receptacle=True)),
+    ("dining_table", "group", (0.9, 0.8, 0.72), (2.0, 1.0, 0.78), WOOD + WHITE, dict(receptacle=True)),
     ("chair", "group", (0.42, 0.45, 0.8), (0.5, 0.55, 1.0), WOOD + FABRIC, {}),
     ("sideboard", "wall", (1.2, 0.4, 0.75), (1.8, 0.5, 0.9), WOOD, dict(rooms={_DINING: 0.7, _LIVING: 0.2}, receptacle=True)),
     ("candle", "on_top", (0.05, 0.05, 0.1), (0.08, 0.08, 0.25), WHITE + BRIGHT, dict(rooms={_DINING: 0.4, _LIVING: 0.2, _BED: 0.2}, parents=("dining_table", "sideboard", "nightstand", "coffee_table"), round=True)),

@@ -148,6 +148,8 @@ def office_chair(style, rng):
         parts.append(box(-0.01, -0.01, 0.99, 0.01, 0.01, 1.0))
     if style >= 2:
         parts += [box(-0.42, -0.3, 0.5, -0.36, 0.25, 0.68), box(0.36, -0.3, 0.5, 0.42, 0.25, 0.68)]
+    if style == 3:
+        parts.append(box(-0.2, -0.45, 0.88, 0.2, -0.34, 1.0))  # head rest
     return parts, None
 
 
@@ -265,6 +267,8 @@ def screen(style, rng, stand=True):
             parts += [box(-0.45, -0.5, 0, -0.35, 0.5, 0.03), box(0.35, -0.5, 0, 0.45, 0.5, 0.03), box(-0.42, -0.05, 0, -0.38, 0.05, foot + 0.05), box(0.38, -0.05, 0, 0.42, 0.05, foot + 0.05)]
     if style == 2:
         parts.append(box(-0.2, -0.5, foot, 0.2, -0.1, 0.6))  # back box
+    if style == 3:
+        parts.append(box(-0.5, -0.1, foot, 0.5, 0.2, foot + 0.08))  # sound bar
     return parts, None
 
 
@@ -283,7 +287,13 @@ def slab(style, rng, keys=False):
 
 
 def pillow(style, rng):
-    return [blob(0, 0, 0.5, 0.5, 0.5, 0.5)] if style % 2 else [box(-0.5, -0.5, 0.1, 0.5, 0.5, 0.9), blob(0, 0, 0.5, 0.45, 0.45, 0.5)], None
+    if style == 0:
+        return [box(-0.5, -0.5, 0.1, 0.5, 0.5, 0.9), blob(0, 0, 0.5, 0.45, 0.45, 0.5)], None
+    if style == 1:
+        return [blob(0, 0, 0.5, 0.5, 0.5, 0.5)], None
+    if style == 2:
+        return [box(-0.5, -0.5, 0, 0.5, 0.5, 1.0)], None
+    return [blob(-0.25, 0, 0.5, 0.25, 0.5, 0.5), blob(0.25, 0, 0.5, 0.25, 0.5, 0.5)], None
 
 
 def small_box(style, rng):
@@ -320,6 +330,8 @@ def counter(style, rng):
     for i in range(n):
         x0 = -0.46 + i * 0.92 / n
         parts.append(box(x0 + 0.01, 0.42, 0.12, x0 + 0.92 / n - 0.01, 0.44, 0.9))
+    if style == 3:
+        parts.append(box(-0.46, 0.44, 0.5, 0.46, 0.47, 0.53))  # rail
     return parts, FULL_TOP
 
 
@@ -335,6 +347,8 @@ def kitchen_sink(style, rng):
 def toilet(style, rng):
     parts = [box(-0.5, -0.5, 0.45, 0.5, -0.2, 1.0)] if style != 2 else [box(-0.5, -0.5, 0.5, 0.5, -0.3, 0.8)]
     parts.append(box(-0.3, -0.3, 0, 0.3, 0.2, 0.45) if style % 2 else cyl(0, -0.05, 0, 0.45, 0.3, 10))
+    if style == 3:
+        parts.append(box(-0.2, -0.5, 0.95, 0.2, -0.3, 1.0))  # flush button
     parts.append(blob(0, 0.1, 0.47, 0.5, 0.4, 0.1))
     return parts, None
 
@@ -344,8 +358,10 @@ def sink(style, rng):
         parts = [box(-0.5, -0.5, 0, 0.5, 0.42, 0.88), box(-0.5, -0.5, 0.88, 0.5, 0.5, 0.94)]
         if style == 3:
             parts.append(box(-0.45, 0.42, 0.1, 0.45, 0.45, 0.8))
-    else:  # pedestal
-        parts = [cyl(0, -0.1, 0, 0.75, 0.12, 8), box(-0.5, -0.5, 0.75, 0.5, 0.5, 0.94)]
+    else:  # pedestal (style 1) or wall-hung with a trap (style 2)
+        parts = [cyl(0, -0.1, 0, 0.75, 0.12, 8) if style == 1 else cyl(0, -0.3, 0.3, 0.75, 0.05, 6), box(-0.5, -0.5, 0.75, 0.5, 0.5, 0.94)]
+        if style == 2:
+            parts.append(box(-0.05, -0.5, 0, 0.05, -0.45, 0.3))
     parts += [cyl(0, -0.4, 0.94, 1.0, 0.03, 6)]
     return parts, (0.94, -0.5, -0.3, 0.5, 0.5)
 
@@ -358,6 +374,9 @@ def bathtub(style, rng):
         parts += legs(0.45, 0.4, 0, 0.1, 0.06)
     if style == 2:
         parts.append(box(0.3, -0.5, 0.85, 0.42, -0.4, 1.0))  # tap
+    if style == 3:
+        parts.append(box(-0.5, 0.5 - t * 1.5, 0, 0.5, 0.5, 0.2))  # front apron
+        parts.append(box(-0.5, -0.5, 0.9, -0.3, 0.5, 1.0))  # rolled rim
     return parts, None
 
 
@@ -365,11 +384,13 @@ def towel(style, rng):
     parts = [hcyl(-0.5, 0.5, -0.3, 0.95, 0.05), box(-0.45, -0.2, 0.0 if style != 1 else 0.2, 0.45, 0.5, 0.93)]
     if style == 2:
         parts.append(box(-0.5, -0.5, 0.9, -0.45, -0.3, 1.0))
+    if style == 3:
+        parts.append(box(-0.45, -0.2, 0.0, 0.0, 0.5, 0.5))  # second, shorter towel
     return parts, None
 
 
 def toilet_paper(style, rng):
-    parts = [box(-0.5, -0.5, 0.2, 0.5, -0.35, 1.0), hcyl(-0.45, 0.45, 0.05, 0.55, 0.42 if style != 1 else 0.35)]
+    parts = [box(-0.5, -0.5, 0.2 if style != 2 else 0.0, 0.5, -0.35, 1.0), hcyl(-0.45, 0.45, 0.05, 0.55, 0.42 if style != 1 else 0.35)]
     if style == 3:
         parts.append(box(-0.5, -0.5, 0.95, 0.5, 0.5, 1.0))
     return parts, None

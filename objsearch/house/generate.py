@@ -1,0 +1,137 @@
+"""The house pipeline: stages -> ``HouseSpec`` -> MJCF -> compile -> validate, with resampling.
+
+``generate_house(seed)`` runs the stages (footprint and rooms, room types, doors and walls,
+furniture, materials) with ``numpy.random.default_rng([seed, attempt, split])`` and
+validates the result (``objsearch.house.validate``). Resampling is bounded and documented:
+if a stage cannot satisfy its rules (``StageFailure``), the model does not compile, or
+validation fails, the next *attempt* starts over from a fresh generator; after
+``MAX_ATTEMPTS`` attempts ``HouseGenerationError`` lists what went wrong. The size class
+is drawn once per seed (from ``default_rng([seed, SIZE_STREAM])``) so resampling keeps it.
+The attempt that succeeded is recorded in the spec, so a spec is reproducible from
+(seed, split, size class, version) alone.
+
+``HOUSE_GENERATOR_VERSION`` must be bumped whenever the same seed would give a different
+house (then regenerate the golden specs: ``python tests/house/make_golden.py``).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from pathlib import Path
+
+import mujoco
+import numpy as np
+
+from objsearch.errors import UserError
+from objsearch.fileio import atomic_write
+from objsearch.house import assets
+from objsearch.house.categories import CATEGORY_TABLE_VERSION
+from objsearch.house.doors import build_walls, place_doors
+from objsearch.house.floorplan import SIZE_CLASSES, StageFailure, assign_types, footprint, room_program, split_rooms
+from objsearch.house.furnish import furnish
+from objsearch.house.layout import HouseContext
+from objsearch.house.materials import EXTERIOR, room_materials
+from objsearch.house.mjcf import compile_house
+from objsearch.house.spec import HouseSpec, Room, r4
+from objsearch.house.validate import ValidationReport, validate_house
+
+HOUSE_GENERATOR_VERSION = "house-gen-1"
+MAX_ATTEMPTS = 12
+WALL_HEIGHT = 2.7
+WALL_THICKNESS = 0.12
+SPLITS = {"train": 0, "test": 1}
+SIZE_STREAM = 7919
+
+
+class HouseGenerationError(RuntimeError):
+    """No attempt produced a valid house."""
+
+
+@dataclass
+class GeneratedHouse:
+    spec: HouseSpec
+    xml: str
+    model: mujoco.MjModel
+    report: ValidationReport
+
+
+def house_id(seed: int, split: str = "train") -> str:
+    return f"{split}_{seed:06d}"
+
+
+def size_class_for(seed: int) -> str:
+    names = sorted(SIZE_CLASSES)
+    return names[int(np.random.default_rng([seed, SIZE_STREAM]).integers(len(names)))]
+
+
+def build_spec(seed: int, size_class: str, split: str, attempt: int) -> HouseSpec:
+    """Run the stages once; raises ``StageFailure`` when a rule cannot be met."""
+    rng = np.random.default_rng([seed, attempt, SPLITS[split]])
+    lo, hi = SIZE_CLASSES[size_class]["rooms"]
+    n = int(rng.integers(lo, hi + 1))
+    types = room_program(n, rng)
+    width, depth = footprint(size_class, rng)
+    rects = split_rooms(width, depth, n, rng)
+    types = assign_types(rects, types, rng)
+    doors = place_doors(rects, types, rng, WALL_THICKNESS)
+    materials, rooms = [], []
+    for i, (rect, t) in enumerate(zip(rects, types)):
+        floor, wall = room_materials(i, t, rng)
+        materials += [floor, wall]
+        x0, y0, x1, y1 = (r4(v) for v in rect)
+        rooms.append(Room(i, t, ((x0, y0), (x1, y0), (x1, y1), (x0, y1)), floor.name, wall.name))
+    materials.append(EXTERIOR)
+    walls = build_walls(rects, doors, (width, depth), WALL_THICKNESS, WALL_HEIGHT, [r.wall_material for r in rooms], EXTERIOR.name)
+    h = WALL_THICKNESS / 2
+    interiors = [(r4(x0 + h), r4(y0 + h), r4(x1 - h), r4(y1 - h)) for x0, y0, x1, y1 in rects]
+    objects = furnish(HouseContext(rng, split), rooms, interiors, doors, WALL_HEIGHT)
+    return HouseSpec(
+        house_id=house_id(seed, split), seed=seed, split=split, size_class=size_class, attempt=attempt,
+        generator_version=HOUSE_GENERATOR_VERSION, category_table_version=CATEGORY_TABLE_VERSION,
+        footprint=(width, depth), wall_height=WALL_HEIGHT, wall_thickness=WALL_THICKNESS,
+        rooms=tuple(rooms), doors=tuple(doors), walls=tuple(walls), objects=tuple(objects), materials=tuple(materials),
+    )
+
+
+def generate_house(seed: int, size_class: str | None = None, split: str = "train", validate: bool = True) -> GeneratedHouse:
+    if split not in SPLITS:
+        raise UserError(f"unknown split {split!r}; use one of {', '.join(SPLITS)}")
+    if size_class is not None and size_class not in SIZE_CLASSES:
+        raise UserError(f"unknown room size {size_class!r}; use one of {', '.join(SIZE_CLASSES)}")
+    size_class = size_class or size_class_for(seed)
+    failures = []
+    for attempt in range(MAX_ATTEMPTS):
+        try:
+            spec = build_spec(seed, size_class, split, attempt)
+        except StageFailure as err:
+            failures.append(f"attempt {attempt}: {err}")
+            continue
+        try:
+            model, xml = compile_house(spec)
+        except ValueError as err:  # mujoco compile errors
+            failures.append(f"attempt {attempt}: MuJoCo compile failed: {err}")
+            continue
+        report = validate_house(spec, model) if validate else ValidationReport()
+        if report.ok:
+            return GeneratedHouse(spec, xml, model, report)
+        failures.append(f"attempt {attempt}: " + "; ".join(report.problems[:3]))
+    raise HouseGenerationError(f"seed {seed} ({size_class}, {split}): no valid house in {MAX_ATTEMPTS} attempts:\n  " + "\n  ".join(failures))
+
+
+def write_house(house: GeneratedHouse, out_dir: str | Path, preview: bool = True) -> Path:
+    """Write ``<out_dir>/<house_id>/`` (house.xml, spec.json, preview.png, meshes/)."""
+    d = Path(out_dir) / house.spec.house_id
+    for cat, variant in sorted({(o.category, o.variant) for o in house.spec.objects}):
+        target = d / "meshes" / assets.mesh_file(cat, variant)
+        if not target.exists() or target.read_bytes() != assets.mesh_bytes(cat, variant):
+            with atomic_write(target, "wb") as f:
+                f.write(assets.mesh_bytes(cat, variant))
+    with atomic_write(d / "house.xml") as f:
+        f.write(house.xml)
+    with atomic_write(d / "spec.json") as f:
+        f.write(house.spec.to_json())
+    if preview:
+        from objsearch.house.preview import write_preview
+
+        write_preview(house.spec, d / "preview.png")
+    return d

@@ -1,0 +1,199 @@
+"""``HouseSpec``: a house as pure data (rooms, doors, walls, objects, materials).
+
+Generator stages build it, ``objsearch.house.mjcf`` turns it into MJCF, and it round-trips
+through JSON (``spec.json``). Coordinates are metres in the world frame: x east, y north, z
+up, the footprint spans ``[0, width] x [0, depth]``, the floor is z = 0. Every float is
+rounded to ``DECIMALS`` places when a spec is built, so the JSON is byte-stable.
+
+Object pose: ``position`` is the centre of the object's footprint at its *bottom* (z = base
+height), ``yaw`` is in degrees and a multiple of 90, and the object's front (+y in its own
+frame) points along ``(-sin yaw, cos yaw)``. ``size`` is (width, depth, height) in its own
+frame, so its world footprint swaps width and depth when yaw is 90 or 270.
+"""
+
+from __future__ import annotations
+
+import json
+import math
+from dataclasses import asdict, dataclass, field, fields
+
+SCHEMA_VERSION = 1
+DECIMALS = 4
+
+
+def r4(x: float) -> float:
+    """Round to the spec's precision (and turn -0.0 into 0.0)."""
+    return round(float(x), DECIMALS) + 0.0
+
+
+def r4s(xs) -> tuple[float, ...]:
+    return tuple(r4(x) for x in xs)
+
+
+@dataclass(frozen=True)
+class Material:
+    """A surface look. ``texture`` is ``flat`` or ``checker`` (tiles: ``rgba`` and ``rgba2``)."""
+
+    name: str
+    rgba: tuple[float, float, float, float]
+    texture: str = "flat"
+    rgba2: tuple[float, float, float, float] = (0.0, 0.0, 0.0, 1.0)
+    repeat: float = 1.0
+
+
+@dataclass(frozen=True)
+class Room:
+    """A room: id, type (``categories.ROOM_TYPES``), counter-clockwise polygon, materials."""
+
+    id: int
+    type: str
+    polygon: tuple[tuple[float, float], ...]
+    floor_material: str
+    wall_material: str
+
+    @property
+    def bounds(self) -> tuple[float, float, float, float]:
+        xs = [p[0] for p in self.polygon]
+        ys = [p[1] for p in self.polygon]
+        return min(xs), min(ys), max(xs), max(ys)
+
+    @property
+    def area(self) -> float:
+        pts = self.polygon
+        return 0.5 * abs(sum(pts[i][0] * pts[i - 1][1] - pts[i - 1][0] * pts[i][1] for i in range(len(pts))))
+
+
+@dataclass(frozen=True)
+class Door:
+    """An opening between two rooms in the wall line through ``center``.
+
+    ``axis`` is the direction the wall runs (``x``: a wall at y = center[1]); the opening is
+    ``width`` wide and ``height`` high, with a lintel above it up to the wall height.
+    """
+
+    id: int
+    rooms: tuple[int, int]
+    axis: str
+    center: tuple[float, float]
+    width: float
+    height: float
+
+    @property
+    def span(self) -> tuple[float, float, float, float]:
+        """Footprint of the opening (x0, y0, x1, y1) as a zero-thickness segment."""
+        cx, cy = self.center
+        h = self.width / 2
+        return (cx - h, cy, cx + h, cy) if self.axis == "x" else (cx, cy - h, cx, cy + h)
+
+
+@dataclass(frozen=True)
+class Wall:
+    """An axis-aligned wall box: footprint (x0, y0, x1, y1), from the floor to ``height``.
+
+    ``room`` is the room whose side this is (-1: the outer skin of the house).
+    """
+
+    id: int
+    room: int
+    box: tuple[float, float, float, float]
+    height: float
+    material: str
+
+
+@dataclass(frozen=True)
+class ObjectInstance:
+    """One object. Its MJCF body and geom are both named ``name`` = ``<category>_<instance>``."""
+
+    category: str
+    instance: int
+    variant: str
+    room: int
+    position: tuple[float, float, float]
+    yaw: int
+    size: tuple[float, float, float]
+    rgba: tuple[float, float, float, float]
+    placement: str
+    parent: str | None = None
+    group: str | None = None
+
+    @property
+    def name(self) -> str:
+        return f"{self.category}_{self.instance}"
+
+    @property
+    def front(self) -> tuple[float, float]:
+        a = math.radians(self.yaw)
+        return (r4(-math.sin(a)), r4(math.cos(a)))
+
+    @property
+    def footprint(self) -> tuple[float, float, float, float]:
+        """World-frame axis-aligned footprint (x0, y0, x1, y1)."""
+        w, d, _ = self.size
+        if self.yaw % 180:
+            w, d = d, w
+        x, y, _ = self.position
+        return (x - w / 2, y - d / 2, x + w / 2, y + d / 2)
+
+    @property
+    def box(self) -> tuple[float, float, float, float, float, float]:
+        """World axis-aligned box (x0, y0, z0, x1, y1, z1)."""
+        x0, y0, x1, y1 = self.footprint
+        z = self.position[2]
+        return (x0, y0, z, x1, y1, z + self.size[2])
+
+
+@dataclass(frozen=True)
+class HouseSpec:
+    house_id: str
+    seed: int
+    split: str
+    size_class: str
+    attempt: int
+    generator_version: str
+    category_table_version: str
+    footprint: tuple[float, float]
+    wall_height: float
+    wall_thickness: float
+    rooms: tuple[Room, ...]
+    doors: tuple[Door, ...]
+    walls: tuple[Wall, ...]
+    objects: tuple[ObjectInstance, ...]
+    materials: tuple[Material, ...]
+    schema_version: int = SCHEMA_VERSION
+    extra: dict = field(default_factory=dict)
+
+    def room(self, room_id: int) -> Room:
+        return next(r for r in self.rooms if r.id == room_id)
+
+    def object(self, name: str) -> ObjectInstance:
+        return next(o for o in self.objects if o.name == name)
+
+    def material(self, name: str) -> Material:
+        return next(m for m in self.materials if m.name == name)
+
+    def to_dict(self) -> dict:
+        return asdict(self)
+
+    def to_json(self) -> str:
+        """Canonical JSON: sorted keys, one-space indent, trailing newline."""
+        return json.dumps(self.to_dict(), sort_keys=True, indent=1) + "\n"
+
+    @classmethod
+    def from_dict(cls, data: dict) -> "HouseSpec":
+        if data.get("schema_version") != SCHEMA_VERSION:
+            raise ValueError(f"spec schema_version {data.get('schema_version')!r} is not {SCHEMA_VERSION}; regenerate the house")
+        d = dict(data)
+        d["footprint"] = tuple(d["footprint"])
+        d["rooms"] = tuple(Room(**{**r, "polygon": tuple(tuple(p) for p in r["polygon"])}) for r in d["rooms"])
+        d["doors"] = tuple(Door(**{**x, "rooms": tuple(x["rooms"]), "center": tuple(x["center"])}) for x in d["doors"])
+        d["walls"] = tuple(Wall(**{**w, "box": tuple(w["box"])}) for w in d["walls"])
+        d["objects"] = tuple(
+            ObjectInstance(**{**o, **{k: tuple(o[k]) for k in ("position", "size", "rgba")}}) for o in d["objects"]
+        )
+        d["materials"] = tuple(Material(**{**m, "rgba": tuple(m["rgba"]), "rgba2": tuple(m["rgba2"])}) for m in d["materials"])
+        known = {f.name for f in fields(cls)}
+        return cls(**{k: v for k, v in d.items() if k in known})
+
+    @classmethod
+    def from_json(cls, text: str) -> "HouseSpec":
+        return cls.from_dict(json.loads(text))

@@ -1,0 +1,24 @@
+"""Regenerate the golden specs (run after an intended generator change, with
+HOUSE_GENERATOR_VERSION bumped in objsearch/house/generate.py):
+
+    python tests/house/make_golden.py
+"""
+
+from pathlib import Path
+
+from objsearch.fileio import atomic_write
+from objsearch.house.generate import generate_house
+
+GOLDEN_SEEDS = (0, 1)
+GOLDEN_DIR = Path(__file__).parent / "golden"
+
+
+def golden_path(seed: int) -> Path:
+    return GOLDEN_DIR / f"spec_{seed:06d}.json"
+
+
+if __name__ == "__main__":
+    for seed in GOLDEN_SEEDS:
+        with atomic_write(golden_path(seed)) as f:
+            f.write(generate_house(seed).spec.to_json())
+        print(f"wrote {golden_path(seed)}")
