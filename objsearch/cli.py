@@ -19,6 +19,7 @@ COMMANDS = [
     "objsearch.eval.cli",
     "objsearch.leaderboard.cli",
     "objsearch.house.cli",
+    "objsearch.sim.cli",
     "objsearch.train",
 ]
 

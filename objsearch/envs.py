@@ -5,6 +5,7 @@ import gymnasium
 
 ENVS = {
     "ObjSearch/GridWorld-v0": "objsearch.gridworld.env:GridWorldEnv",
+    "ObjSearch/House-v0": "objsearch.sim.env:HouseEnv",
 }
 
 

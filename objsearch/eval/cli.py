@@ -59,11 +59,16 @@ def configure(parser: argparse.ArgumentParser) -> argparse.ArgumentParser:
     parser.add_argument("--tasks", help="grid world: a JSONL task file over --maps; one split named after the file")
     parser.add_argument("--max-steps", type=_positive, help="step limit per episode (default: the suite's)")
     parser.add_argument(
+        "--render", choices=("cached", "live"), help="house suites: pre-rendered observations (default) or render each step"
+    )
+    parser.add_argument("--cache-dir", help="house suites: observation cache folder (default: $OBJSEARCH_CACHE or ~/.cache/objsearch)")
+    parser.add_argument(
         "--step-time-limit", type=_seconds, default=10.0, metavar="SECONDS",
         help="an agent call that takes longer fails its episode (default: 10; 0: no limit)",
     )
     parser.add_argument("--executor", choices=("local", "ray"), default="local", help="local processes or a Ray cluster")
     parser.add_argument("--address", help="Ray cluster address (default: start a local cluster)")
+    parser.add_argument("--video", metavar="DIR", help="house suites: write each episode's map (PNG) and view (MP4) here")
     parser.add_argument("--list-agents", action="store_true", help="list the installed agents and exit")
     parser.add_argument("--quiet", action="store_true", help="no progress bar")
     parser.set_defaults(func=run)
@@ -94,6 +99,10 @@ def run(args: argparse.Namespace) -> int:
         if args.suite != "gridworld":
             raise UserError("--maps/--tasks apply to the gridworld suite only")
         suite_config.update(maps=args.maps, tasks=args.tasks)
+    if args.render or args.cache_dir:
+        if not args.suite.startswith("house"):
+            raise UserError("--render/--cache-dir apply to the house suites only")
+        suite_config.update(mode=args.render or "cached", cache_dir=args.cache_dir)
     if args.max_steps:
         suite_config["max_steps"] = args.max_steps
     config = EvalConfig(
@@ -106,7 +115,8 @@ def run(args: argparse.Namespace) -> int:
         step_time_limit=args.step_time_limit or None,
     )
     results = evaluate(
-        config, workers=args.workers, progress=not args.quiet, executor=args.executor, address=args.address, out=args.out
+        config, workers=args.workers, progress=not args.quiet, executor=args.executor, address=args.address, out=args.out,
+        video_dir=args.video,
     )
     print(format_table(results))
     failed = sum("error" in r for r in results["episodes"])

@@ -100,9 +100,23 @@ def _time_limit(seconds: float | None):
         raise StepTimeLimit
 
 
-def run_episode(agent, env, suite_name: str, split: str, episode: Episode, seed: int, step_time_limit: float | None = None) -> dict:
-    """Play one episode and return its record (``error`` is set if the agent failed it)."""
+def run_episode(
+    agent,
+    env,
+    suite_name: str,
+    split: str,
+    episode: Episode,
+    seed: int,
+    step_time_limit: float | None = None,
+    trajectory: list | None = None,
+) -> dict:
+    """Play one episode and return its record (``error`` is set if the agent failed it).
+
+    With ``trajectory`` (a list), every (observation, info) of the episode is appended to it.
+    """
     obs, info = env.reset(seed=seed, options={"task": episode.task})
+    if trajectory is not None:
+        trajectory.append((obs, info))
     if info.get("min_steps", episode.min_steps) != episode.min_steps:
         raise RuntimeError(f"env and suite disagree on min_steps of {split}/{episode.episode_id}")
     task = AgentTask(
@@ -127,6 +141,8 @@ def run_episode(agent, env, suite_name: str, split: str, episode: Episode, seed:
                 raise ValueError(f"invalid action {action!r} for action space {env.action_space}")
             obs, _, terminated, truncated, info = env.step(action)
             steps += 1
+            if trajectory is not None:
+                trajectory.append((obs, info))
             if terminated or truncated:
                 success = bool(info["success"])
                 break
@@ -150,10 +166,13 @@ def run_episode(agent, env, suite_name: str, split: str, episode: Episode, seed:
 
 
 class Worker:
-    """An agent, a suite and its env: built once per process (or Ray actor), then fed units."""
+    """An agent, a suite and its env: built once per process (or Ray actor), then fed units.
 
-    def __init__(self, config: EvalConfig):
-        self.config = config
+    With ``video_dir``, each episode's pictures are written there by the suite's
+    ``write_video(directory, record, episode, trajectory)``."""
+
+    def __init__(self, config: EvalConfig, video_dir: str | None = None):
+        self.config, self.video_dir = config, video_dir
         self.suite = make_suite(config.suite, **config.suite_config)
         self.env = self.suite.make_env()
         self.agent = make_agent(config.agent, config.checkpoint)
@@ -163,7 +182,11 @@ class Worker:
         if split not in self.episodes:
             self.episodes[split] = self.suite.episodes(split)
         episode = self.episodes[split][episode_id]
-        return run_episode(self.agent, self.env, self.suite.name, split, episode, seed, self.config.step_time_limit)
+        trajectory = [] if self.video_dir else None
+        record = run_episode(self.agent, self.env, self.suite.name, split, episode, seed, self.config.step_time_limit, trajectory)
+        if self.video_dir:
+            self.suite.write_video(self.video_dir, record, episode, trajectory)
+        return record
 
     def run_chunk(self, units: list[Unit]) -> list[dict]:
         return [self.run(*unit) for unit in units]
@@ -172,9 +195,9 @@ class Worker:
 _worker: Worker | None = None
 
 
-def _init_worker(config: EvalConfig) -> None:
+def _init_worker(config: EvalConfig, video_dir: str | None) -> None:
     global _worker
-    _worker = Worker(config)
+    _worker = Worker(config, video_dir)
 
 
 def _run_chunk(units: list[Unit]) -> list[dict]:
@@ -186,19 +209,21 @@ def _chunks(units: list[Unit], workers: int) -> list[list[Unit]]:
     return [units[i : i + size] for i in range(0, len(units), size)]
 
 
-def _run_local(config: EvalConfig, units: list[Unit], workers: int, done: Callable[[list[dict]], None]) -> None:
+def _run_local(config: EvalConfig, units: list[Unit], workers: int, video_dir, done: Callable[[list[dict]], None]) -> None:
     if workers <= 1:
-        worker = Worker(config)
+        worker = Worker(config, video_dir)
         for unit in units:
             done([worker.run(*unit)])
         return
     context = multiprocessing.get_context("spawn")  # no fork: torch and EGL dislike it
-    with cf.ProcessPoolExecutor(workers, mp_context=context, initializer=_init_worker, initargs=(config,)) as pool:
+    with cf.ProcessPoolExecutor(workers, mp_context=context, initializer=_init_worker, initargs=(config, video_dir)) as pool:
         for part in pool.map(_run_chunk, _chunks(units, workers)):
             done(part)
 
 
-def _run_ray(config: EvalConfig, units: list[Unit], workers: int, address: str | None, done: Callable[[list[dict]], None]) -> None:
+def _run_ray(
+    config: EvalConfig, units: list[Unit], workers: int, address: str | None, video_dir, done: Callable[[list[dict]], None]
+) -> None:
     try:
         import ray
         from ray.util import ActorPool
@@ -211,7 +236,7 @@ def _run_ray(config: EvalConfig, units: list[Unit], workers: int, address: str |
     try:
         if address:
             workers = max(workers, int(ray.cluster_resources().get("CPU", 1)))
-        actors = [ray.remote(num_cpus=1)(Worker).remote(config) for _ in range(workers)]
+        actors = [ray.remote(num_cpus=1)(Worker).remote(config, video_dir) for _ in range(workers)]
         chunks = _chunks(units, workers)
         for part in ActorPool(actors).map_unordered(lambda actor, chunk: actor.run_chunk.remote(chunk), chunks):
             done(part)
@@ -272,6 +297,7 @@ def run_units(
     address: str | None = None,
     partial: PartialResults | None = None,
     progress: bool = True,
+    video_dir: str | None = None,
 ) -> list[dict]:
     """Run (split, seed, episode_id) units and return their records in the units' order.
 
@@ -291,9 +317,9 @@ def run_units(
 
     try:
         if todo and executor == "ray":
-            _run_ray(config, todo, workers, address, done)
+            _run_ray(config, todo, workers, address, video_dir, done)
         elif todo:
-            _run_local(config, todo, workers, done)
+            _run_local(config, todo, workers, video_dir, done)
     finally:
         bar.close()
     return [finished[u] for u in units]
@@ -311,17 +337,21 @@ def evaluate(
     executor: str = "local",
     address: str | None = None,
     out: str | Path | None = None,
+    video_dir: str | None = None,
 ) -> dict:
     """Evaluate ``config.agent`` on ``config.suite`` and return the results dict.
 
     With ``out``, the results JSON is written there; until it is, finished episodes are
     kept in ``<out>.partial.jsonl`` and a rerun of the same configuration resumes from it.
+    With ``video_dir``, every episode's pictures are written there (suites that have them).
     """
     from objsearch.eval.results import build_results
     from objsearch.fileio import write_json
 
     suite = make_suite(config.suite, **config.suite_config)
     splits = check_splits(suite, list(config.splits))
+    if video_dir and not hasattr(suite, "write_video"):
+        raise UserError(f"--video is not available for suite {config.suite!r} (house suites have it)")
     make_agent(config.agent, config.checkpoint)  # fail fast on a bad agent, before any worker starts
     config = EvalConfig(
         agent=config.agent,
@@ -334,7 +364,8 @@ def evaluate(
     )
     partial = PartialResults(f"{out}.partial.jsonl", config) if out else None
     try:
-        records = run_units(config, plan_units(suite, splits, config.seeds), workers, executor, address, partial, progress)
+        units = plan_units(suite, splits, config.seeds)
+        records = run_units(config, units, workers, executor, address, partial, progress, video_dir)
     finally:
         if partial:
             partial.close()

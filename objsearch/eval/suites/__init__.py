@@ -23,6 +23,9 @@ from objsearch.errors import UserError
 
 SUITES = {
     "gridworld": "objsearch.eval.suites.gridworld:GridWorldSuite",
+    "house-single": "objsearch.eval.suites.house:HouseSingleSuite",
+    "house-multi": "objsearch.eval.suites.house:HouseMultiSuite",
+    "house-gen": "objsearch.eval.suites.house:HouseGenSuite",
 }
 DEFAULT_SUITE = "gridworld"
 

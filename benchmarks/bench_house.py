@@ -1,0 +1,76 @@
+"""House sensing and navigation throughput: live rendering, the naive baseline, the
+observation cache (build time per house, cached env steps per second).
+
+    .venv/bin/python benchmarks/bench_house.py [--seed 2] [--json]
+
+With ``--json`` the last line is one JSON object with ``live_fps_64``, ``live_fps_128``,
+``naive_fps_64``, ``naive_fps_128``, ``cached_steps_per_s``, ``cache_build_s_per_house`` and
+``poses``. Rendering figures come from ``bench_render.py`` (same folder).
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import os
+import sys
+import tempfile
+import time
+from pathlib import Path
+
+os.environ.setdefault("MUJOCO_GL", "egl")
+sys.path.insert(0, str(Path(__file__).parent))
+
+import numpy as np  # noqa: E402
+
+from bench_render import measure_live_fps, measure_naive_fps  # noqa: E402
+from objsearch.sim.cache import HouseCache  # noqa: E402
+from objsearch.sim.env import HouseEnv  # noqa: E402
+from objsearch.sim.goals import GOAL_CAMERA  # noqa: E402
+from objsearch.sim.renderer import RenderSettings  # noqa: E402
+from objsearch.sim.world import HouseRef, World  # noqa: E402
+
+
+def cached_steps_per_s(ref: HouseRef, cache_dir: str, steps: int = 200_000) -> float:
+    """Random actions through ``HouseEnv`` in cached mode, resets included, one process."""
+    env = HouseEnv([ref], mode="cached", cache_dir=cache_dir)
+    env.reset(seed=0)
+    actions = np.random.default_rng(0).integers(6, size=steps).tolist()
+    start = time.perf_counter()
+    for action in actions:
+        _, _, terminated, truncated, _ = env.step(action)
+        if terminated or truncated:
+            env.reset()
+    return steps / (time.perf_counter() - start)
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--seed", type=int, default=2, help="generator seed of the house (default: a medium one)")
+    parser.add_argument("--json", action="store_true")
+    args = parser.parse_args()
+
+    ref = HouseRef(seed=args.seed, size_class="medium")
+    world = World.load(ref)
+    graph = world.graph
+    poses = graph.world_poses(np.random.default_rng(0).choice(graph.num_poses, size=256, replace=False))
+    out = {"house": world.house_id, "poses": graph.num_poses, "objects": len(world.spec.objects)}
+    for size in (64, 128):
+        settings = RenderSettings(width=size, height=size)
+        out[f"live_fps_{size}"] = round(measure_live_fps(world.model, settings, poses), 1)
+        out[f"naive_fps_{size}"] = round(measure_naive_fps(world.model, settings, poses[:64]), 1)
+    with tempfile.TemporaryDirectory() as cache_dir:
+        start = time.perf_counter()
+        HouseCache.open(world, GOAL_CAMERA, cache_dir, progress=False)
+        out["cache_build_s_per_house"] = round(time.perf_counter() - start, 2)
+        out["cached_steps_per_s"] = round(cached_steps_per_s(ref, cache_dir))
+    out["speedup_64"] = round(out["live_fps_64"] / out["naive_fps_64"], 1)
+    if args.json:
+        print(json.dumps(out))
+        return
+    for key, value in out.items():
+        print(f"{key:<26}{value}")
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,98 @@
+"""The house suites (``house-single``, ``house-multi``, ``house-gen``) in the harness.
+
+Episodes come from the suite files of ``objsearch.sim.suites``; the env is
+``ObjSearch/House-v0`` in ``cached`` mode by default (``objsearch cache build --suite NAME``
+renders the caches ahead; otherwise the first episode in a house builds its cache) or
+``live``.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from functools import cached_property
+
+from objsearch.eval.suites import Episode
+from objsearch.house.categories import CATEGORY_IDS
+from objsearch.sim.env import MODES, HouseEnv, HouseTask
+from objsearch.sim.navgraph import PoseGraph
+from objsearch.sim.suites import episode_task, house_refs, load_suite_file
+from objsearch.sim.world import World
+from objsearch.errors import UserError
+
+
+@dataclass(frozen=True)
+class HousePath:
+    """The oracle's view of a house episode: the pose graph and the goal poses."""
+
+    graph: PoseGraph
+    task: HouseTask
+
+    def shortest_path(self) -> list[int]:
+        g = self.graph
+        return g.shortest_path(g.pose_id(*self.task.start), [g.pose_id(*p) for p in self.task.goals])
+
+
+class HouseSuite:
+    """A house suite. Args: ``mode`` (``cached`` or ``live``), ``cache_dir``, ``max_steps``."""
+
+    name = ""
+
+    def __init__(self, mode: str = "cached", cache_dir: str | None = None, max_steps: int | None = None):
+        if mode not in MODES:
+            raise UserError(f"unknown render mode {mode!r}; use one of {', '.join(MODES)}")
+        self.data = load_suite_file(self.name)
+        self.mode, self.cache_dir = mode, cache_dir
+        self.max_steps = int(max_steps or self.data["max_steps"])
+        self.episode_set_version = self.data["version"]
+        self.splits = tuple(self.data["splits"])
+
+    def config(self) -> dict:
+        return {"mode": self.mode, "cache_dir": self.cache_dir, "max_steps": self.max_steps}
+
+    @cached_property
+    def worlds(self) -> dict[str, World]:
+        worlds = [World.load(ref) for ref in house_refs(self.data)]
+        return {w.house_id: w for w in worlds}
+
+    def episodes(self, split: str) -> list[Episode]:
+        out = []
+        for i, item in enumerate(self.data["splits"][split]):
+            task = episode_task(self.data, item)
+            out.append(
+                Episode(
+                    episode_id=i,
+                    task=task,
+                    goal=CATEGORY_IDS[task.target],
+                    goal_name=task.target,
+                    min_steps=task.min_steps,
+                    describe=task.to_json(),
+                    privileged=HousePath(self.worlds[task.house].graph, task),
+                )
+            )
+        return out
+
+    def make_env(self) -> HouseEnv:
+        return HouseEnv(house_refs(self.data), mode=self.mode, max_steps=self.max_steps, cache_dir=self.cache_dir)
+
+
+    def write_video(self, directory: str, record: dict, episode: Episode, trajectory: list) -> None:
+        from pathlib import Path
+
+        from objsearch.sim.video import write_episode
+
+        stem = Path(directory) / f"{record['split']}_seed{record['seed']}_ep{record['episode_id']:04d}"
+        poses = [info["pose"] for _, info in trajectory]
+        views = [obs["rgb"] for obs, _ in trajectory]
+        write_episode(stem, self.worlds[episode.task.house], episode.task, poses, views)
+
+
+class HouseSingleSuite(HouseSuite):
+    name = "house-single"
+
+
+class HouseMultiSuite(HouseSuite):
+    name = "house-multi"
+
+
+class HouseGenSuite(HouseSuite):
+    name = "house-gen"

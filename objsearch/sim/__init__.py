@@ -1,0 +1,1 @@
+"""Simulation of generated houses: rendering (RGB, depth, segmentation), poses, envs, caches."""

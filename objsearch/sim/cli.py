@@ -1,0 +1,36 @@
+"""``objsearch cache build --suite NAME``: pre-render the observations of a suite's houses."""
+
+from __future__ import annotations
+
+import argparse
+
+
+def add_parser(subparsers) -> None:
+    parser = subparsers.add_parser("cache", help="pre-rendered observation caches of house suites", description=__doc__)
+    commands = parser.add_subparsers(dest="cache_command", metavar="ACTION", required=True)
+    build = commands.add_parser("build", help="render every pose of every house of a suite into the cache")
+    build.add_argument("--suite", required=True, help="house-single, house-multi or house-gen")
+    build.add_argument("--cache-dir", help="cache folder (default: $OBJSEARCH_CACHE or ~/.cache/objsearch)")
+    build.add_argument("--training", action="store_true", help="also the suite's training houses (house-gen)")
+    build.set_defaults(func=run_build)
+
+
+def run_build(args: argparse.Namespace) -> int:
+    from tqdm import tqdm
+
+    from objsearch.errors import UserError
+    from objsearch.sim.cache import HouseCache
+    from objsearch.sim.goals import GOAL_CAMERA
+    from objsearch.sim.suites import SUITE_NAMES, load_suite_file
+    from objsearch.sim.world import HouseRef, World
+
+    if args.suite not in SUITE_NAMES:
+        raise UserError(f"unknown house suite {args.suite!r}; known: {', '.join(SUITE_NAMES)}")
+    suite = load_suite_file(args.suite)
+    houses = dict(suite["houses"])
+    if args.training:
+        houses.update(suite["training_houses"])
+    for house_id, info in tqdm(houses.items(), desc=f"houses of {args.suite}", unit="house"):
+        cache = HouseCache.open(World.load(HouseRef(**info)), GOAL_CAMERA, args.cache_dir)
+        print(f"{house_id}: {cache.num_poses} poses in {cache.directory}")
+    return 0

@@ -1,0 +1,279 @@
+"""``ObjSearch/House-v0``: find an object category in a generated MuJoCo house."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Any, Sequence
+
+import gymnasium
+import numpy as np
+from gymnasium import spaces
+
+from objsearch.house.categories import CATEGORY_IDS
+from objsearch.sim.cache import HouseCache, quantize_depth
+from objsearch.sim.goals import DEFAULT_RULE, GOAL_CAMERA, GoalRule, goal_poses
+from objsearch.sim.navgraph import ACTIONS, NUM_MOVE_ACTIONS, STOP
+from objsearch.sim.renderer import RenderSettings
+from objsearch.sim.world import HouseRef, World
+
+MODES = ("cached", "live")
+START_STEPS = (6, 40)  # sampled starts: minimal steps to the nearest goal pose in this range
+NUM_CATEGORY_IDS = max(CATEGORY_IDS.values()) + 1
+
+
+@dataclass(frozen=True)
+class HouseTask:
+    """One episode: a house, a start pose, a target category and its goal poses.
+
+    Attributes:
+        house: house id (a key of the env's houses).
+        start: (row, col, heading) on the house's pose graph.
+        target: category name.
+        goals: goal poses (row, col, heading) from the goal rule.
+        min_steps: minimal actions from start to a goal pose.
+    """
+
+    house: str
+    start: tuple[int, int, int]
+    target: str
+    goals: tuple[tuple[int, int, int], ...]
+    min_steps: int
+
+    def to_json(self) -> dict:
+        return {"house": self.house, "start": list(self.start), "target": self.target, "min_steps": self.min_steps}
+
+
+class HouseEnv(gymnasium.Env):
+    """Goal-driven object search in a procedurally generated MuJoCo house.
+
+    ## Description
+    The agent stands at a pose of the house's pose graph (0.25 m cells, 4 headings;
+    ``objsearch.sim.navgraph``) and must reach a goal pose of its target category: a pose
+    whose view is filled by the target (``objsearch.sim.goals``). It sees an egocentric
+    camera at 1 m height.
+
+    ## Observation Space
+    ``Dict(rgb=Box(uint8, (H, W, 3)), depth=Box(float32, (H, W)) metres to the mm (zfar where
+    nothing is hit),
+    semantic=Box(uint8, (H, W)) category ids, target=Discrete(C))`` with H, W from
+    ``settings`` (64 x 64 by default).
+
+    ## Action Space
+    ``Discrete(6)``: move ahead, rotate left, rotate right, move back, move left, move right
+    (0.25 m, 90 degrees); ``Discrete(7)`` with ``stop_action=True`` (6 = STOP).
+
+    ## Rewards
+    1 when the episode succeeds, else 0.
+
+    ## Starting State
+    The task passed as ``reset(options={"task": HouseTask})``, or a sampled one: a house,
+    a target category present in it, and a start 6-40 steps from its nearest goal pose.
+
+    ## Episode End
+    Terminated on success: on reaching a goal pose, or with ``stop_action`` on STOP (success
+    iff at a goal pose). Truncated after ``max_steps`` (1000, the paper's).
+
+    ## Arguments
+    ``houses``: HouseRefs (default: the house of generator seed 0). ``mode``: ``cached``
+    (every pose pre-rendered, memory-mapped; ``objsearch.sim.cache``) or ``live`` (render
+    each step); both give identical observations. ``settings``: camera. ``cache_dir``.
+    ``goal_rule``. ``targets``: categories sampled episodes may ask for.
+
+    ## Version History
+    * v0: initial release (pose graph navgraph-v1, goal rule goals-v1).
+    """
+
+    metadata = {"render_modes": ["rgb_array"], "render_fps": 4}
+
+    def __init__(
+        self,
+        houses: Sequence[HouseRef] | None = None,
+        mode: str = "cached",
+        settings: RenderSettings = GOAL_CAMERA,
+        max_steps: int = 1000,
+        stop_action: bool = False,
+        cache_dir: str | None = None,
+        goal_rule: GoalRule = DEFAULT_RULE,
+        targets: Sequence[str] | None = None,
+        render_mode: str | None = None,
+    ):
+        if mode not in MODES:
+            raise ValueError(f"mode must be one of {MODES}, not {mode!r}")
+        self.refs = list(houses) if houses else [HouseRef(seed=0)]
+        self.mode, self.settings, self.max_steps = mode, settings, int(max_steps)
+        self.stop_action, self.cache_dir, self.goal_rule = stop_action, cache_dir, goal_rule
+        self.targets = tuple(targets) if targets else None
+        self.render_mode = render_mode
+        h, w = settings.height, settings.width
+        self.observation_space = spaces.Dict(
+            {
+                "rgb": spaces.Box(0, 255, (h, w, 3), dtype=np.uint8),
+                "depth": spaces.Box(0.0, settings.zfar, (h, w), dtype=np.float32),
+                "semantic": spaces.Box(0, 255, (h, w), dtype=np.uint8),
+                "target": spaces.Discrete(NUM_CATEGORY_IDS),
+            }
+        )
+        self.action_space = spaces.Discrete(NUM_MOVE_ACTIONS + (1 if stop_action else 0))
+        self._loaded: dict[int, World] = {}  # index in refs -> house
+        self._worlds: dict[str, World] = {}  # house id -> house
+        self._sources: dict[str, Any] = {}  # house id -> HouseCache or HouseRenderer
+        self._goal_cache: dict[str, HouseCache] = {}
+        self._goals: dict[tuple, np.ndarray] = {}  # (house, target) -> goal pose ids
+        self._steps_to: dict[tuple, np.ndarray] = {}  # (house, goal ids) -> steps from every pose
+        self._world: World | None = None
+        self._done = True
+
+    # -- houses -----------------------------------------------------------------------
+    def _load(self, index: int) -> World:
+        if index not in self._loaded:
+            world = World.load(self.refs[index])
+            self._loaded[index] = self._worlds[world.house_id] = world
+        return self._loaded[index]
+
+    def world(self, house_id: str) -> World:
+        """The loaded house ``house_id`` (houses load on first use)."""
+        for index in range(len(self.refs)):
+            if house_id in self._worlds:
+                break
+            self._load(index)
+        if house_id not in self._worlds:
+            raise ValueError(f"house {house_id!r} is not among this env's houses")
+        return self._worlds[house_id]
+
+    def _source(self, world: World):
+        if world.house_id not in self._sources:
+            if self.mode == "cached":
+                self._sources[world.house_id] = HouseCache.open(world, self.settings, self.cache_dir)
+            else:
+                from objsearch.sim.renderer import HouseRenderer
+
+                self._sources[world.house_id] = HouseRenderer(world.model, self.settings)
+        return self._sources[world.house_id]
+
+    def goal_pose_ids(self, world: World, target: str) -> np.ndarray:
+        """Goal poses of ``target`` by the goal rule (renders the goal camera's cache)."""
+        key = (world.house_id, target)
+        if key not in self._goals:
+            if world.house_id not in self._goal_cache:
+                self._goal_cache[world.house_id] = HouseCache.open(world, GOAL_CAMERA, self.cache_dir)
+            cache = self._goal_cache[world.house_id]
+            self._goals[key] = goal_poses(cache.semantic, cache.depth, CATEGORY_IDS[target], self.goal_rule)
+        return self._goals[key]
+
+    def steps_to(self, world: World, goal_ids) -> np.ndarray:
+        """Minimal steps from every pose to the goal poses (memoised per goal set)."""
+        key = (world.house_id, tuple(int(g) for g in goal_ids))
+        if key not in self._steps_to:
+            self._steps_to[key] = world.graph.shortest_steps(list(key[1]))
+        return self._steps_to[key]
+
+    def sample_task(self, rng: np.random.Generator) -> HouseTask:
+        """A house, a target present in it, and a start ``START_STEPS`` from its goals."""
+        for _ in range(100):
+            world = self._load(int(rng.integers(len(self.refs))))
+            present = sorted({o.category for o in world.spec.objects})
+            candidates = [c for c in present if self.targets is None or c in self.targets]
+            if not candidates:
+                continue
+            target = candidates[rng.integers(len(candidates))]
+            goals = self.goal_pose_ids(world, target)
+            if len(goals) == 0:
+                continue
+            dist = self.steps_to(world, goals)
+            starts = np.flatnonzero((dist >= START_STEPS[0]) & (dist <= START_STEPS[1]))
+            if len(starts) == 0:
+                continue
+            start = int(starts[rng.integers(len(starts))])
+            graph = world.graph
+            return HouseTask(
+                house=world.house_id,
+                start=graph.pose_of(start),
+                target=target,
+                goals=tuple(graph.pose_of(g) for g in goals),
+                min_steps=int(dist[start]),
+            )
+        raise RuntimeError("could not sample a task: no target with goal poses and starts in range")
+
+    # -- gymnasium API ----------------------------------------------------------------
+    def reset(self, *, seed: int | None = None, options: dict[str, Any] | None = None):
+        super().reset(seed=seed)
+        task = (options or {}).get("task") or self.sample_task(self.np_random)
+        world = self.world(task.house)
+        graph = world.graph
+        self._world, self._task = world, task
+        goal_ids = sorted(graph.pose_id(*g) for g in task.goals)
+        self._goal_mask = np.zeros(graph.num_poses, dtype=bool)
+        self._goal_mask[goal_ids] = True
+        self._dist = self.steps_to(world, goal_ids)
+        self._pose = graph.pose_id(*task.start)
+        if self._dist[self._pose] != task.min_steps:
+            raise ValueError(
+                f"task in {task.house} says {task.min_steps} minimal steps, the pose graph says {self._dist[self._pose]}"
+            )
+        self._next = graph.next_pose
+        self._target_id = CATEGORY_IDS[task.target]
+        self._source_now = self._source(world)
+        self._steps, self._done = 0, False
+        return self._observe(), self._info(False)
+
+    def step(self, action):
+        if self._done:
+            raise RuntimeError("step() called on a finished episode; call reset() first")
+        action = int(action)
+        if not 0 <= action < self.action_space.n:
+            raise ValueError(f"invalid action {action}; expected 0..{self.action_space.n - 1} ({', '.join(ACTIONS[: self.action_space.n])})")
+        self._pose = int(self._next[self._pose, action])
+        self._steps += 1
+        at_goal = bool(self._goal_mask[self._pose])
+        success = (action == STOP and at_goal) if self.stop_action else at_goal
+        terminated = success or (self.stop_action and action == STOP)
+        truncated = not terminated and self._steps >= self.max_steps
+        self._done = terminated or truncated
+        return self._observe(), float(success), terminated, truncated, self._info(success)
+
+    def render(self):
+        if self.render_mode == "rgb_array" and self._world is not None:
+            return np.array(self._observe()["rgb"])
+        return None
+
+    def close(self):
+        for source in self._sources.values():
+            if hasattr(source, "close"):
+                source.close()
+        self._sources.clear()
+        self._done = True
+
+    def __getstate__(self):
+        state = dict(self.__dict__)
+        state["_sources"], state["_goal_cache"], state["_source_now"] = {}, {}, None
+        return state
+
+    def __setstate__(self, state):
+        self.__dict__.update(state)
+        if self._world is not None:
+            self._source_now = self._source(self._world)
+
+    # -- helpers ----------------------------------------------------------------------
+    @property
+    def pose(self) -> tuple[int, int, int]:
+        return self._world.graph.pose_of(self._pose)
+
+    def _observe(self) -> dict[str, Any]:
+        source = self._source_now
+        if self.mode == "cached":
+            p = self._pose
+            # copies: the caller owns what it is given (Gymnasium's contract)
+            return {"rgb": source.rgb[p].copy(), "depth": source.depth[p].copy(), "semantic": source.semantic[p].copy(),
+                    "target": self._target_id}
+        frames = source.render(self._world.graph.world_poses([self._pose]))
+        return {"rgb": frames.rgb[0], "depth": quantize_depth(frames.depth[0]), "semantic": frames.semantic[0], "target": self._target_id}
+
+    def _info(self, success: bool) -> dict[str, Any]:
+        return {
+            "success": success,
+            "steps": self._steps,
+            "min_steps": self._task.min_steps,
+            "house": self._task.house,
+            "pose": self._world.graph.pose_of(self._pose),
+            "steps_to_goal": int(self._dist[self._pose]),
+        }

@@ -1,0 +1,64 @@
+"""When has an agent found its target? The goal-pose rule, in one place, versioned.
+
+``top_area`` (the default, the paper's): the goal poses of a target category are the poses
+whose ground-truth segmentation shows the most pixels of that category: every pose whose
+target area is at least the ``top_k``-th largest (5; ties are all included), among poses
+that see the target at all. ``near_visible`` (ObjectNav-style, selectable): every pose that
+sees at least ``min_pixels`` target pixels closer than ``max_distance`` metres.
+
+Both are computed from frames of the goal camera, ``GOAL_CAMERA`` (independent of the
+camera an agent uses), and suites store the resulting poses, so success never drifts
+with renderer or agent settings.
+"""
+
+from __future__ import annotations
+
+from dataclasses import asdict, dataclass
+
+import numpy as np
+
+from objsearch.sim.renderer import RenderSettings
+
+GOAL_RULE_VERSION = "goals-v1"
+GOAL_CAMERA = RenderSettings(width=64, height=64, fovy=90.0, camera_height=1.0)
+RULES = ("top_area", "near_visible")
+
+
+@dataclass(frozen=True)
+class GoalRule:
+    """Attributes:
+    kind: ``top_area`` or ``near_visible``.
+    top_k: top_area: how many of the largest target areas count (ties included).
+    min_pixels: near_visible: target pixels needed (at the goal camera's 64x64).
+    max_distance: near_visible: those pixels' depth limit in metres.
+    """
+
+    kind: str = "top_area"
+    top_k: int = 5
+    min_pixels: int = 20
+    max_distance: float = 1.0
+
+    def __post_init__(self):
+        if self.kind not in RULES:
+            raise ValueError(f"goal rule must be one of {RULES}, not {self.kind!r}")
+
+    def to_json(self) -> dict:
+        return {"version": GOAL_RULE_VERSION, **asdict(self)}
+
+
+DEFAULT_RULE = GoalRule()
+
+
+def goal_poses(semantic: np.ndarray, depth: np.ndarray, category_id: int, rule: GoalRule = DEFAULT_RULE) -> np.ndarray:
+    """Pose ids that are goals for ``category_id``, given the goal camera's frames of every
+    pose (``semantic`` (P, H, W) category ids, ``depth`` (P, H, W) metres). Empty if the
+    category is never seen."""
+    hits = semantic == category_id
+    if rule.kind == "top_area":
+        area = hits.reshape(len(hits), -1).sum(axis=1)
+        if not area.any():
+            return np.zeros(0, dtype=np.int64)
+        threshold = max(1, np.sort(area)[::-1][min(rule.top_k, len(area)) - 1])
+        return np.flatnonzero(area >= threshold)
+    near = (hits & (depth <= rule.max_distance)).reshape(len(hits), -1).sum(axis=1)
+    return np.flatnonzero(near >= rule.min_pixels)

@@ -1,0 +1,383 @@
+"""What an agent sees in a house: RGB, depth and semantic/instance segmentation, in batches.
+
+``HouseRenderer(model, settings).render(poses)`` renders N agent poses ``(x, y, yaw)`` at
+once and returns ``Frames``. The camera stands at ``settings.camera_height`` and looks
+horizontally along ``(cos yaw, sin yaw, 0)`` (yaw 0 looks along +x, counter-clockwise
+positive) with a vertical field of view ``settings.fovy``.
+
+How it is fast on a CPU (Mesa llvmpipe) and on a GPU (see benchmarks/RESULTS.md):
+
+* the scene is built once (the house is static): per pose only the camera (and the
+  headlight that follows it) changes, written straight into ``mjvScene.camera``;
+* agent cameras need no shadows, reflections, skybox, fog or multisampling
+  (``offsamples=0``, which also keeps segmentation exact at edges: nothing is blended);
+* poses are tiled as viewports over one large offscreen buffer (a "sheet"), RGB and depth
+  are read back with one ``mjr_readPixels`` per sheet, then the sheet is drawn again with
+  ``mjRND_SEGMENT | mjRND_IDCOLOR`` and read once more;
+* ids are decoded with numpy lookup tables (scene geom -> category / instance).
+
+An optional ceiling (``settings.ceiling``, on by default) closes the rooms for agent
+cameras: houses are generated without one (so a top-down view sees in), but a camera at
+1 m with a 90 degree field of view would otherwise look at the black void above the walls.
+It is labelled with the ``ceiling`` structure class.
+
+Threads: one renderer is one GL context; use it from one thread at a time.
+"""
+
+from __future__ import annotations
+
+import copy
+import hashlib
+import json
+import math
+from dataclasses import asdict, dataclass, fields
+
+from objsearch.sim.glbackend import RenderBackendError, check_mujoco_gl, create_gl_context
+
+check_mujoco_gl()  # before `import mujoco`, which rejects an unknown MUJOCO_GL with a bare RuntimeError
+
+import mujoco  # noqa: E402
+import numpy as np  # noqa: E402
+
+from objsearch.errors import UserError  # noqa: E402
+from objsearch.house.categories import BACKGROUND_ID, CATEGORY_IDS  # noqa: E402
+from objsearch.house.mjcf import geom_labels  # noqa: E402
+from objsearch.sim.culling import PortalCuller  # noqa: E402
+
+__all__ = ["RENDERER_VERSION", "RenderSettings", "Frames", "HouseRenderer", "RenderBackendError"]
+
+#: Bump whenever the same settings and house could give different pixels.
+RENDERER_VERSION = "house-renderer-1"
+
+CEILING_ID = CATEGORY_IDS["ceiling"]
+MAX_SHEET = 2048  # largest side of the tiled offscreen buffer, pixels
+HIDDEN_GROUP = 5  # geom group culled geoms are moved to (not drawn)
+CATEGORIES = int(mujoco.mjtCatBit.mjCAT_STATIC | mujoco.mjtCatBit.mjCAT_DYNAMIC)
+CEILING_EMISSION = 0.4
+_CEILING_RGBA = np.array([0.92, 0.91, 0.88, 1.0], np.float32)
+_EYE9 = np.eye(3).ravel()
+
+
+@dataclass(frozen=True)
+class RenderSettings:
+    """The agent camera. Part of every cache key (``key()``)."""
+
+    width: int = 64
+    """Image width in pixels."""
+    height: int = 64
+    """Image height in pixels."""
+    fovy: float = 90.0
+    """Vertical field of view in degrees; the horizontal one follows from width / height."""
+    camera_height: float = 1.0
+    """Height of the optical centre above the floor, metres."""
+    znear: float = 0.05
+    """Near clipping distance, metres (the agent's radius is 0.2 m)."""
+    zfar: float = 30.0
+    """Far clipping distance, metres; also the depth of pixels that see nothing."""
+    ceiling: bool = True
+    """Close the rooms with a ceiling (category ``ceiling``) at the top of the walls."""
+
+    def __post_init__(self):
+        if not (isinstance(self.width, int) and isinstance(self.height, int) and 1 <= self.width <= MAX_SHEET
+                and 1 <= self.height <= MAX_SHEET):
+            raise UserError(f"render size {self.width}x{self.height} must be integers in 1..{MAX_SHEET}")
+        if not 1.0 <= self.fovy <= 170.0:
+            raise UserError(f"fovy={self.fovy} must be in [1, 170] degrees")
+        if not 0.0 < self.znear < self.zfar:
+            raise UserError(f"need 0 < znear < zfar, got znear={self.znear}, zfar={self.zfar}")
+
+    def to_dict(self) -> dict:
+        """The settings as JSON-ready data (plain ints, floats and bools)."""
+        return asdict(self)
+
+    def to_json(self) -> str:
+        """The settings as JSON text, keys sorted."""
+        return json.dumps(self.to_dict(), sort_keys=True)
+
+    @classmethod
+    def from_json(cls, data: str | dict) -> "RenderSettings":
+        """Settings from ``to_json()`` text or ``to_dict()`` data; unknown keys are an error."""
+        data = json.loads(data) if isinstance(data, str) else dict(data)
+        known = {f.name for f in fields(cls)}
+        if set(data) - known:
+            raise UserError(f"unknown render settings {sorted(set(data) - known)}; known: {sorted(known)}")
+        return cls(**data)
+
+    def key(self) -> str:
+        """A short stable hash of the settings and ``RENDERER_VERSION`` (cache keys use it)."""
+        text = json.dumps([RENDERER_VERSION, self.to_dict()], sort_keys=True)
+        return hashlib.sha256(text.encode()).hexdigest()[:16]
+
+
+@dataclass
+class Frames:
+    """A batch of N rendered views (row 0 of every image is the top).
+
+    Attributes:
+        rgb: uint8 (N, H, W, 3).
+        depth: float32 (N, H, W), metres: planar z-depth along the optical axis (not the
+            distance along the pixel's ray). Pixels that see nothing are ``settings.zfar``.
+        semantic: uint8 (N, H, W), category id per pixel from
+            ``objsearch.house.categories.CATEGORY_IDS`` (structure classes wall / floor /
+            door / ceiling included; ``BACKGROUND_ID`` (0) where nothing is hit).
+        instance: int16 (N, H, W), the object's instance number as in
+            ``objsearch.house.mjcf.geom_labels``; -1 for structure and background.
+    """
+
+    rgb: np.ndarray
+    depth: np.ndarray
+    semantic: np.ndarray
+    instance: np.ndarray
+
+    def __len__(self) -> int:
+        return len(self.rgb)
+
+
+def _as_poses(poses) -> np.ndarray:
+    arr = np.asarray(poses, dtype=np.float64)
+    if arr.ndim == 1 and arr.shape == (3,):
+        arr = arr[None]
+    if arr.ndim != 2 or arr.shape[1] != 3:
+        raise UserError(f"poses must be an array of shape (N, 3) of (x, y, yaw), got shape {np.shape(poses)}")
+    if not np.isfinite(arr).all():
+        raise UserError("poses contain NaN or infinite values")
+    return arr
+
+
+class HouseRenderer:
+    """Renders RGB, depth and segmentation of a static house model for batches of poses.
+
+    Args:
+        model: The compiled house (``GeneratedHouse.model``); it is not modified (the
+            renderer keeps a copy).
+        settings: The agent camera.
+        cull: Draw only geoms that may be visible (``objsearch.sim.culling``); the images
+            are identical either way. Off only to measure what it buys.
+        max_tiles: Most poses drawn per offscreen sheet (default: as many as fit in
+            ``MAX_SHEET``); 1 reads pixels back after every pose. For benchmarks.
+
+    Raises:
+        RenderBackendError: No OpenGL backend works (see ``objsearch.sim.glbackend``).
+    """
+
+    def __init__(self, model: mujoco.MjModel, settings: RenderSettings = RenderSettings(), *, cull: bool = True,
+                 max_tiles: int | None = None):
+        self._gl = None
+        self._con = None
+        self.settings = settings
+        w, h = settings.width, settings.height
+        # Sheet: tiles of RGB on the left half, the same poses' id colours on the right half.
+        self.cols = max(1, (MAX_SHEET // 2) // w)
+        self.rows = max(1, MAX_SHEET // h)
+        if max_tiles is not None:  # benchmarks: how much does reading many tiles at once buy?
+            self.cols = min(self.cols, max(1, max_tiles))
+            self.rows = min(self.rows, -(-max(1, max_tiles) // self.cols))
+        self.sheet_w, self.sheet_h = 2 * self.cols * w, self.rows * h
+        # A private copy: per pose, culled geoms are moved to a hidden geom group.
+        self.model = copy.deepcopy(model)
+        self.model.vis.global_.offwidth, self.model.vis.global_.offheight = self.sheet_w, self.sheet_h
+        self.model.vis.quality.offsamples = 0  # no multisampling: exact segmentation, cheaper fill
+        self.model.vis.quality.shadowsize = 0  # no shadow map to allocate
+
+        self._gl, self.backend = create_gl_context(self.sheet_w, self.sheet_h)
+        try:
+            self._con = mujoco.MjrContext(self.model, mujoco.mjtFontScale.mjFONTSCALE_50)
+        except Exception as err:
+            self.close()
+            raise RenderBackendError(f"MuJoCo could not create its render context with the {self.backend} backend: {err}") from err
+        mujoco.mjr_setBuffer(mujoco.mjtFramebuffer.mjFB_OFFSCREEN, self._con)
+        self._con.readDepthMap = mujoco.mjtDepthMap.mjDEPTH_ZEROFAR
+        half_fov = math.atan(math.tan(math.radians(settings.fovy) / 2) * w / h)
+        self._culler = PortalCuller(self.model, half_fov) if cull else None
+        self._build_scene()
+
+    # ------------------------------------------------------------------ scene
+
+    def _build_scene(self) -> None:
+        model, s = self.model, self.settings
+        self._data = mujoco.MjData(model)
+        mujoco.mj_kinematics(model, self._data)
+        opt = mujoco.MjvOption()
+        for flag in range(mujoco.mjtVisFlag.mjNVISFLAG):
+            opt.flags[flag] = 0  # no joints, lights, cameras, contact points ...
+        opt.flags[mujoco.mjtVisFlag.mjVIS_TEXTURE] = 1
+        opt.flags[mujoco.mjtVisFlag.mjVIS_STATIC] = 1  # the house is all static bodies
+        opt.sitegroup[:] = 0
+        opt.geomgroup[:] = 1
+        opt.geomgroup[HIDDEN_GROUP] = 0
+        self._opt = opt
+        self._cam = mujoco.MjvCamera()
+        mujoco.mjv_defaultFreeCamera(model, self._cam)
+        self._groups = model.geom_group.copy()
+        self._scn = scn = mujoco.MjvScene(model, maxgeom=model.ngeom + 8)
+        self._update_scene(None)
+        if [scn.geoms[i].objid for i in range(model.ngeom)] != list(range(model.ngeom)):
+            raise RuntimeError("mjv_updateScene did not add the geoms in model order; the id decoding relies on it")
+        for flag in (mujoco.mjtRndFlag.mjRND_SHADOW, mujoco.mjtRndFlag.mjRND_REFLECTION, mujoco.mjtRndFlag.mjRND_SKYBOX,
+                     mujoco.mjtRndFlag.mjRND_FOG, mujoco.mjtRndFlag.mjRND_HAZE, mujoco.mjtRndFlag.mjRND_WIREFRAME,
+                     mujoco.mjtRndFlag.mjRND_SEGMENT, mujoco.mjtRndFlag.mjRND_IDCOLOR, mujoco.mjtRndFlag.mjRND_DEPTH):
+            scn.flags[flag] = 0
+        scn.flags[mujoco.mjtRndFlag.mjRND_CULL_FACE] = 1
+
+        # Per geom labels; scene geom i (id colour i + 1) is the i-th drawn model geom.
+        cats, inst = geom_labels(model)
+        self._cats = cats.astype(np.uint8)
+        self._inst = inst.astype(np.int16)
+        self._ceiling = self._ceiling_box() if s.ceiling else None
+        self._one_byte_ids = model.ngeom + 2 < 256  # ids fit in the red channel
+
+        # Camera frustum (the same for every pose); both eyes identical (mono).
+        top = s.znear * math.tan(math.radians(s.fovy) / 2)
+        self._frustum = dict(frustum_near=s.znear, frustum_far=s.zfar, frustum_top=top, frustum_bottom=-top,
+                             frustum_center=0.0, frustum_width=top * s.width / s.height, orthographic=0)
+
+    def _ceiling_box(self):
+        """(size, pos) of a slab over the house footprint, on top of the walls."""
+        model = self.model
+        world_boxes = (model.geom_type == mujoco.mjtGeom.mjGEOM_BOX) & (model.geom_bodyid == 0)
+        if not world_boxes.any():
+            return None
+        lo = (self._data.geom_xpos[world_boxes] - model.geom_size[world_boxes]).min(axis=0)
+        hi = (self._data.geom_xpos[world_boxes] + model.geom_size[world_boxes]).max(axis=0)
+        t = 0.05
+        return np.array([(hi[0] - lo[0]) / 2, (hi[1] - lo[1]) / 2, t]), np.array([(hi[0] + lo[0]) / 2, (hi[1] + lo[1]) / 2, hi[2] + t])
+
+    def _update_scene(self, visible: np.ndarray | None) -> None:
+        """Rebuild the scene's geom list: only ``visible`` model geoms (all if None), plus the ceiling."""
+        groups = self.model.geom_group
+        if visible is None:
+            groups[:] = self._groups
+        else:
+            np.copyto(groups, np.where(visible, self._groups, HIDDEN_GROUP))
+        scn = self._scn
+        mujoco.mjv_updateScene(self.model, self._data, self._opt, None, self._cam, CATEGORIES, scn)
+        if getattr(self, "_ceiling", None) is not None:
+            geom = scn.geoms[scn.ngeom]
+            mujoco.mjv_initGeom(geom, mujoco.mjtGeom.mjGEOM_BOX, self._ceiling[0], self._ceiling[1], _EYE9, _CEILING_RGBA)
+            geom.objtype, geom.objid, geom.category, geom.segid = mujoco.mjtObj.mjOBJ_UNKNOWN, -1, mujoco.mjtCatBit.mjCAT_STATIC, scn.ngeom
+            geom.emission = CEILING_EMISSION  # lit from below only by the ambient term otherwise: too dark
+            scn.ngeom += 1
+
+    def _set_camera(self, pose: np.ndarray) -> None:
+        x, y, yaw = pose
+        pos = (x, y, self.settings.camera_height)
+        fwd = (math.cos(yaw), math.sin(yaw), 0.0)
+        for eye in self._scn.camera:
+            eye.pos[:] = pos
+            eye.forward[:] = fwd
+            eye.up[:] = (0.0, 0.0, 1.0)
+            for k, v in self._frustum.items():
+                setattr(eye, k, v)
+        scn = self._scn
+        for i in range(scn.nlight):
+            light = scn.lights[i]
+            if light.headlight:
+                light.pos[:] = pos
+                light.dir[:] = fwd
+
+    # ------------------------------------------------------------------ rendering
+
+    def render(self, poses) -> Frames:
+        """Render the views from ``poses``.
+
+        Args:
+            poses: Array-like (N, 3) of (x, y, yaw) in world metres / radians (or one pose
+                of shape (3,)).
+
+        Returns:
+            ``Frames`` with N images each.
+        """
+        if self._con is None:
+            raise UserError("this HouseRenderer is closed; create a new one")
+        poses = _as_poses(poses)
+        n, s = len(poses), self.settings
+        out = Frames(rgb=np.empty((n, s.height, s.width, 3), np.uint8), depth=np.empty((n, s.height, s.width), np.float32),
+                     semantic=np.empty((n, s.height, s.width), np.uint8), instance=np.empty((n, s.height, s.width), np.int16))
+        self._gl.make_current()
+        per_sheet = self.cols * self.rows
+        for start in range(0, n, per_sheet):
+            self._render_sheet(poses[start:start + per_sheet], out, start)
+        return out
+
+    def _render_sheet(self, poses: np.ndarray, out: Frames, start: int) -> None:
+        s, scn, con = self.settings, self._scn, self._con
+        w, h, n = s.width, s.height, len(poses)
+        used_rows = -(-n // self.cols)
+        cols = self.cols if used_rows > 1 else n
+        half = cols * w
+        drawn = []  # model geom ids drawn for each pose, in scene order
+        segment, idcolor = mujoco.mjtRndFlag.mjRND_SEGMENT, mujoco.mjtRndFlag.mjRND_IDCOLOR
+        for k in range(n):
+            visible = self._culler.visible(*poses[k]) if self._culler is not None else None
+            self._update_scene(visible)
+            drawn.append(np.flatnonzero(visible) if visible is not None else None)
+            self._set_camera(poses[k])
+            left, bottom = (k % cols) * w, (k // cols) * h
+            mujoco.mjr_render(mujoco.MjrRect(left, bottom, w, h), scn, con)  # lit colour + depth
+            scn.flags[segment] = scn.flags[idcolor] = 1
+            mujoco.mjr_render(mujoco.MjrRect(half + left, bottom, w, h), scn, con)  # flat id colours
+            scn.flags[segment] = scn.flags[idcolor] = 0
+        rgb = np.empty((used_rows * h, 2 * half, 3), np.uint8)
+        zbuf = np.empty((used_rows * h, 2 * half), np.float32)
+        mujoco.mjr_readPixels(rgb, zbuf, mujoco.MjrRect(0, 0, 2 * half, used_rows * h), con)
+
+        stop = start + n
+        out.rgb[start:stop] = self._untile(rgb[:, :half], n, cols)
+        out.depth[start:stop] = self._untile(self._linear_depth(zbuf[:, :half]), n, cols)
+        seg = rgb[:, half:]
+        if self._one_byte_ids:
+            ids = seg[..., 0].astype(np.intp)
+        else:
+            ids = seg[..., 0].astype(np.intp) | (seg[..., 1].astype(np.intp) << 8)
+        ids = self._untile(ids, n, cols)
+        # Per-pose tables: id colour -> category / instance (0 = nothing drawn).
+        everything = np.arange(self.model.ngeom)
+        width = self.model.ngeom + 2
+        sem_lut = np.full((n, width), BACKGROUND_ID, np.uint8)
+        inst_lut = np.full((n, width), -1, np.int16)
+        for k, geoms in enumerate(drawn):
+            geoms = everything if geoms is None else geoms
+            sem_lut[k, 1:len(geoms) + 1] = self._cats[geoms]
+            inst_lut[k, 1:len(geoms) + 1] = self._inst[geoms]
+            if self._ceiling is not None:
+                sem_lut[k, len(geoms) + 1] = CEILING_ID
+        flat = ids + (np.arange(n) * width)[:, None, None]
+        out.semantic[start:stop] = sem_lut.ravel()[flat]
+        out.instance[start:stop] = inst_lut.ravel()[flat]
+
+    def _linear_depth(self, z: np.ndarray) -> np.ndarray:
+        # Reverse-Z depth buffer (near -> 1, far -> 0, cleared to 0): invert the projection.
+        n, f = np.float32(self.settings.znear), np.float32(self.settings.zfar)
+        return (f * n) / (z * (f - n) + n)
+
+    def _untile(self, sheet: np.ndarray, n: int, cols: int) -> np.ndarray:
+        """(rows*H, cols*W, ...) bottom-up sheet -> (n, H, W, ...) top-down images, tile order."""
+        h, w = self.settings.height, self.settings.width
+        rows = sheet.shape[0] // h
+        tiles = sheet.reshape(rows, h, cols, w, *sheet.shape[2:])[:, ::-1]
+        tiles = np.swapaxes(tiles, 1, 2).reshape(rows * cols, h, w, *sheet.shape[2:])
+        return tiles[:n]
+
+    # ------------------------------------------------------------------ lifetime
+
+    def close(self) -> None:
+        """Free the GL resources; calling it again does nothing."""
+        if self._con is not None and self._gl is not None:
+            self._gl.make_current()
+            self._con.free()
+        self._con = None
+        if self._gl is not None:
+            self._gl.free()
+        self._gl = None
+
+    def __enter__(self) -> "HouseRenderer":
+        return self
+
+    def __exit__(self, *exc) -> None:
+        self.close()
+
+    def __del__(self):
+        try:
+            self.close()
+        except Exception:  # noqa: BLE001 - interpreter shutdown
+            pass

@@ -1,0 +1,94 @@
+"""A house ready to move and look in: its spec, compiled model and pose graph.
+
+Houses come from a generator seed (regenerated, and checked against a recorded spec hash
+so a generator change cannot silently change a benchmark) or from a house directory
+written by ``objsearch generate``.
+"""
+
+from __future__ import annotations
+
+import hashlib
+from dataclasses import dataclass
+from functools import cached_property
+from pathlib import Path
+
+import mujoco
+
+from objsearch.errors import UserError
+from objsearch.house.spec import HouseSpec
+from objsearch.sim.navgraph import PoseGraph, build_pose_graph
+
+
+def spec_hash(spec: HouseSpec) -> str:
+    """sha256 of the canonical spec JSON: the identity of a house's content."""
+    return hashlib.sha256(spec.to_json().encode()).hexdigest()
+
+
+@dataclass(frozen=True)
+class HouseRef:
+    """How to obtain a house: a generator seed (with split and size class) or a directory.
+
+    Attributes:
+        seed, split, size_class: regenerate with ``objsearch.house.generate``.
+        path: a house directory (``house.xml`` + ``spec.json``) instead of a seed.
+        spec_sha256: if set, the house's spec must hash to it.
+    """
+
+    seed: int | None = None
+    split: str = "train"
+    size_class: str | None = None
+    path: str | None = None
+    spec_sha256: str | None = None
+
+    def to_json(self) -> dict:
+        return {k: v for k, v in self.__dict__.items() if v is not None}
+
+
+class World:
+    """One loaded house. ``model`` and ``graph`` are built on first use."""
+
+    def __init__(self, spec: HouseSpec, model: mujoco.MjModel | None = None):
+        self.spec = spec
+        self._model = model
+
+    @classmethod
+    def load(cls, ref: HouseRef) -> "World":
+        if ref.path is not None:
+            directory = Path(ref.path)
+            try:
+                spec = HouseSpec.from_json((directory / "spec.json").read_text())
+                model = mujoco.MjModel.from_xml_path(str(directory / "house.xml"))
+            except (OSError, ValueError) as err:
+                raise UserError(f"cannot load house {directory}: {err}; expected a folder written by objsearch generate") from None
+            world = cls(spec, model)
+        else:
+            from objsearch.house.generate import generate_house
+
+            house = generate_house(ref.seed, ref.size_class, ref.split, validate=False)
+            world = cls(house.spec, house.model)
+        if ref.spec_sha256 is not None and world.spec_sha256 != ref.spec_sha256:
+            raise UserError(
+                f"house {world.spec.house_id} no longer matches the benchmark (spec hash {world.spec_sha256[:12]} != "
+                f"{ref.spec_sha256[:12]}): the house generator changed; use the objsearch version the suite was made with"
+            )
+        return world
+
+    @property
+    def house_id(self) -> str:
+        return self.spec.house_id
+
+    @cached_property
+    def spec_sha256(self) -> str:
+        return spec_hash(self.spec)
+
+    @property
+    def model(self) -> mujoco.MjModel:
+        if self._model is None:
+            from objsearch.house.mjcf import compile_house
+
+            self._model, _ = compile_house(self.spec)
+        return self._model
+
+    @cached_property
+    def graph(self) -> PoseGraph:
+        return build_pose_graph(self.spec)

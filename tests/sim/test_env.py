@@ -1,0 +1,145 @@
+import pickle
+import warnings
+
+import gymnasium
+import numpy as np
+import pytest
+from gymnasium.utils.env_checker import check_env
+
+import objsearch  # noqa: F401  (registers the env ids)
+from objsearch.house.categories import CATEGORY_IDS
+from objsearch.sim.env import START_STEPS, HouseEnv
+from objsearch.sim.navgraph import STOP
+from objsearch.sim.wrappers import FrameHistory, TargetMaskDepth
+
+from conftest import SMALL_HOUSE
+
+
+@pytest.fixture(scope="module")
+def env(cache_dir):
+    env = HouseEnv([SMALL_HOUSE], mode="cached", cache_dir=cache_dir)
+    yield env
+    env.close()
+
+
+def test_passes_check_env(cache_dir):
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        env = gymnasium.make("ObjSearch/House-v0", houses=[SMALL_HOUSE], cache_dir=cache_dir)
+        check_env(env.unwrapped)
+        env.close()
+        env.close()
+
+
+def test_sampled_tasks_are_solvable_in_range(env):
+    rng = np.random.default_rng(0)
+    for _ in range(10):
+        task = env.sample_task(rng)
+        assert START_STEPS[0] <= task.min_steps <= START_STEPS[1]
+        assert task.target in {o.category for o in env.world(task.house).spec.objects}
+        assert task.goals
+
+
+def rollout(env, task, actions):
+    obs, info = env.reset(options={"task": task})
+    out = [(obs, info)]
+    for a in actions:
+        obs, reward, terminated, truncated, info = env.step(int(a))
+        out.append((obs, reward, terminated, truncated, info))
+        if terminated or truncated:
+            break
+    return out
+
+
+def test_live_and_cached_observations_are_identical(env, cache_dir):
+    task = env.sample_task(np.random.default_rng(1))
+    actions = np.random.default_rng(2).integers(6, size=50)
+    live = HouseEnv([SMALL_HOUSE], mode="live", cache_dir=cache_dir)
+    cached, rendered = rollout(env, task, actions), rollout(live, task, actions)
+    live.close()
+    assert len(cached) == len(rendered)
+    for a, b in zip(cached, rendered):
+        for key in ("rgb", "depth", "semantic", "target"):
+            assert np.array_equal(a[0][key], b[0][key]), key
+        assert a[1:] == b[1:]
+
+
+def test_oracle_path_reaches_a_goal_in_min_steps(env):
+    task = env.sample_task(np.random.default_rng(3))
+    env.reset(options={"task": task})
+    world = env.world(task.house)
+    graph = world.graph
+    path = graph.shortest_path(graph.pose_id(*task.start), [graph.pose_id(*g) for g in task.goals])
+    for i, action in enumerate(path):
+        obs, reward, terminated, truncated, info = env.step(action)
+        assert terminated == (i == len(path) - 1)
+    assert info["success"] and reward == 1.0 and info["steps"] == task.min_steps
+    assert info["pose"] in task.goals
+    target_pixels = (obs["semantic"] == CATEGORY_IDS[task.target]).sum()
+    assert target_pixels > 0, "a goal pose sees its target"
+
+
+def test_stop_action_variant(cache_dir):
+    env = HouseEnv([SMALL_HOUSE], mode="cached", cache_dir=cache_dir, stop_action=True)
+    assert env.action_space.n == 7
+    task = env.sample_task(np.random.default_rng(4))
+    env.reset(options={"task": task})
+    _, reward, terminated, _, info = env.step(STOP)
+    assert terminated and not info["success"] and reward == 0.0, "STOP away from the goal fails"
+    env.reset(options={"task": task})
+    graph = env.world(task.house).graph
+    for action in graph.shortest_path(graph.pose_id(*task.start), [graph.pose_id(*g) for g in task.goals]):
+        _, _, terminated, _, _ = env.step(action)
+        assert not terminated, "with STOP, reaching a goal pose does not end the episode"
+    _, reward, terminated, _, info = env.step(STOP)
+    assert terminated and info["success"] and reward == 1.0
+
+
+def test_truncation_and_blocked_moves(cache_dir):
+    env = HouseEnv([SMALL_HOUSE], mode="cached", cache_dir=cache_dir, max_steps=5)
+    task = env.sample_task(np.random.default_rng(5))
+    env.reset(options={"task": task})
+    graph = env.world(task.house).graph
+    for _ in range(5):
+        pose = graph.pose_id(*env.pose)
+        _, _, terminated, truncated, info = env.step(0)
+        if graph.next_pose[pose, 0] == pose:
+            assert info["pose"] == graph.pose_of(pose), "a blocked move leaves the agent in place"
+    assert truncated and not terminated and info["steps"] == 5
+    with pytest.raises(RuntimeError, match="reset"):
+        env.step(0)
+
+
+def test_pickle_round_trip(env):
+    task = env.sample_task(np.random.default_rng(6))
+    env.reset(options={"task": task})
+    clone = pickle.loads(pickle.dumps(env))
+    for action in (0, 1, 0, 4):
+        a, b = env.step(action), clone.step(action)
+        assert np.array_equal(a[0]["rgb"], b[0]["rgb"]) and a[1:] == b[1:]
+    clone.close()
+
+
+def test_small_observation_wrappers(cache_dir):
+    base = HouseEnv([SMALL_HOUSE], mode="cached", cache_dir=cache_dir)
+    env = FrameHistory(TargetMaskDepth(base, size=10), k=4)
+    task = base.sample_task(np.random.default_rng(7))
+    obs, _ = env.reset(options={"task": task})
+    assert obs.shape == (4, 2, 10, 10) and obs.dtype == np.float32
+    assert (obs[0] == obs[3]).all(), "the history starts filled with the first frame"
+    raw = base._observe()
+    mask = (raw["semantic"] == raw["target"]).mean()
+    assert np.isclose(obs[-1, 0].mean(), mask, atol=1e-6), "block fractions average to the mask's"
+    assert np.isclose(obs[-1, 1].mean(), raw["depth"].mean(), rtol=1e-4)
+    first = obs[-1]
+    obs, *_ = env.step(1)
+    assert np.array_equal(obs[:3], np.repeat(first[None], 3, axis=0)), "the new frame enters at the end"
+
+
+def test_vector_env(cache_dir):
+    envs = gymnasium.make_vec("ObjSearch/House-v0", num_envs=2, vectorization_mode="sync", houses=[SMALL_HOUSE], cache_dir=cache_dir)
+    obs, _ = envs.reset(seed=0)
+    assert obs["rgb"].shape == (2, 64, 64, 3)
+    obs, reward, terminated, truncated, _ = envs.step(np.array([0, 1]))
+    assert reward.shape == (2,)
+    envs.close()

@@ -1,0 +1,79 @@
+"""The house suites through the harness: fixed files, oracle perfect, random far below."""
+
+import numpy as np
+import pytest
+
+from objsearch.eval.runner import EvalConfig, evaluate
+from objsearch.eval.suites import make_suite
+from objsearch.house.categories import CATEGORY_IDS
+from objsearch.sim.cache import HouseCache
+from objsearch.sim.env import START_STEPS
+from objsearch.sim.goals import GOAL_CAMERA, goal_poses
+from objsearch.sim.suites import load_suite_file
+
+
+@pytest.mark.parametrize("name", ["house-single", "house-multi"])
+def test_suite_files_are_consistent(name):
+    data = load_suite_file(name)
+    suite = make_suite(name, mode="live")
+    assert len(suite.worlds) == len(data["houses"])  # regenerated, spec hashes checked
+    for split in suite.splits:
+        episodes = suite.episodes(split)
+        assert len(episodes) == 100
+        for ep in episodes[:20]:
+            graph = suite.worlds[ep.task.house].graph
+            dist = graph.shortest_steps([graph.pose_id(*g) for g in ep.task.goals])
+            assert dist[graph.pose_id(*ep.task.start)] == ep.min_steps
+            assert START_STEPS[0] <= ep.min_steps <= START_STEPS[1]
+    if name == "house-single":
+        assert len(data["houses"]) == 1
+        assert len(data["categories"]["seen"]) == len(data["categories"]["unseen"]) == 6
+        assert not set(data["categories"]["seen"]) & set(data["categories"]["unseen"])
+    else:
+        assert len(data["houses"]) == 8 and len(data["categories"]["targets"]) == 6
+        seen = {e.task.house for e in suite.episodes("seen-envs")}
+        unseen = {e.task.house for e in suite.episodes("unseen-envs")}
+        assert len(seen) == len(unseen) == 4 and not seen & unseen
+
+
+@pytest.mark.parametrize("name", ["house-single", "house-multi"])
+def test_oracle_is_perfect_on_every_split(name):
+    results = evaluate(EvalConfig(agent="oracle", suite=name, seeds=(1,), suite_config={"mode": "live"}), progress=False)
+    for split, s in results["splits"].items():
+        assert s["sr"] == 1.0 and s["spl"] == 1.0 and s["as"] == s["ms"], split
+
+
+def test_random_is_far_below(cache_dir):
+    config = EvalConfig(agent="random", suite="house-single", seeds=(1,), suite_config={"mode": "cached", "cache_dir": cache_dir})
+    results = evaluate(config, progress=False)
+    for split, s in results["splits"].items():
+        assert s["sr"] < 0.6 and s["spl"] < 0.15, (split, s["sr"], s["spl"])
+
+
+def test_goal_rule_golden_values(cache_dir):
+    """The stored goal poses of house-single are what the goal rule gives today."""
+    suite = make_suite("house-single", mode="cached", cache_dir=cache_dir)
+    (world,) = suite.worlds.values()
+    cache = HouseCache.open(world, GOAL_CAMERA, cache_dir, progress=False)
+    stored = suite.data["goals"][world.house_id]
+    for target in sorted(stored)[:8]:
+        ids = goal_poses(cache.semantic, cache.depth, CATEGORY_IDS[target])
+        assert [list(world.graph.pose_of(int(i))) for i in ids] == stored[target], target
+
+
+def test_video_writes_map_and_mp4(tmp_path):
+    config = EvalConfig(agent="oracle", suite="house-single", splits=("seen-goals",), seeds=(1,), suite_config={"mode": "live"})
+    from objsearch.eval.runner import Worker
+
+    worker = Worker(config, video_dir=str(tmp_path))
+    record = worker.run("seen-goals", 1, 0)
+    png = tmp_path / "seen-goals_seed1_ep0000.png"
+    mp4 = tmp_path / "seen-goals_seed1_ep0000.mp4"
+    assert record["success"] and png.stat().st_size > 1000 and mp4.stat().st_size > 1000
+    import cv2
+
+    video = cv2.VideoCapture(str(mp4))
+    frames = int(video.get(cv2.CAP_PROP_FRAME_COUNT))
+    assert frames == record["steps"] + 1
+    image = cv2.imread(str(png))
+    assert image is not None and image.shape[2] == 3
