@@ -116,7 +116,9 @@ class GridPolicy:
             self.successors[env_ids] = self.plan_successors[goals]
 
     def state_dict(self) -> dict:
-        keys = ("goal", "subgoal", "option_steps", "first_seen", "values", "successors")
+        keys = ["goal", "subgoal", "option_steps", "first_seen", "values", "successors"]
+        if self.grg is not None:  # the plans of the moment, which may predate the latest counts
+            keys += ["plan_values", "plan_successors"]
         return {k: getattr(self, k).copy() for k in keys}
 
     def load_state_dict(self, state: dict) -> None:

@@ -327,7 +327,8 @@ def _run_phase(config: GridAgentConfig, out: Path, maps, progress: bool, fresh: 
         if init_low is not None:
             run.policy.low.load_state_dict(init_low)
             run.low.sync_target()
-        config.save(out / CONFIG_FILE) if out.mkdir(parents=True, exist_ok=True) is None else None
+        out.mkdir(parents=True, exist_ok=True)
+        config.save(out / CONFIG_FILE)
         run.begin()
     run.interrupted = not run.run(progress=progress)
     return run

@@ -59,15 +59,22 @@ def requested_backends(value: str | None = None) -> tuple[str, ...]:
 
 
 def check_mujoco_gl() -> None:
-    """Raise ``RenderBackendError`` if ``MUJOCO_GL`` names no backend at all.
+    """Raise ``RenderBackendError`` if ``MUJOCO_GL`` names no backend, or one not installed.
 
     Called when ``objsearch.sim.renderer`` is imported, before ``import mujoco`` (which
-    would fail on such a value with a bare RuntimeError). Values that only disable
-    rendering pass here: cached observations and settings need no GL.
+    would fail on such a value with a bare RuntimeError, and on an explicit ``egl`` /
+    ``osmesa`` whose library is missing with an AttributeError from PyOpenGL). Values
+    that only disable rendering pass here: cached observations and settings need no GL.
     """
-    name = os.environ.get("MUJOCO_GL", "").strip().lower()
+    raw = os.environ.get("MUJOCO_GL", "")
+    name = raw.strip().lower()
     if name not in _AUTO_VALUES + _DISABLED_VALUES + BACKENDS + tuple(_ALIASES):
         requested_backends()
+    # `import mujoco` loads PyOpenGL for an explicit egl / osmesa and crashes with an
+    # AttributeError deep in PyOpenGL when the library is missing: say so first.
+    library = {"egl": "EGL", "osmesa": "OSMesa"}.get(name)
+    if library and ctypes.util.find_library(library) is None:
+        raise RenderBackendError(f"MUJOCO_GL={raw!r} but lib{library} is not installed; fix: {_FIX}")
 
 
 def _context_class(name: str):

@@ -5,16 +5,24 @@ once and returns ``Frames``. The camera stands at ``settings.camera_height`` and
 horizontally along ``(cos yaw, sin yaw, 0)`` (yaw 0 looks along +x, counter-clockwise
 positive) with a vertical field of view ``settings.fovy``.
 
-How it is fast on a CPU (Mesa llvmpipe) and on a GPU (see benchmarks/RESULTS.md):
+How it is fast on a CPU (Mesa llvmpipe) and on a GPU (figures in benchmarks/RESULTS.md):
 
-* the scene is built once (the house is static): per pose only the camera (and the
-  headlight that follows it) changes, written straight into ``mjvScene.camera``;
+* only geoms that may be visible are drawn (``objsearch.sim.culling``: conservative portal
+  culling through door openings; images are identical without it). On llvmpipe a frame
+  costs mostly a fixed amount per drawn geom, and a pose sees ~12 of ~110 geoms;
+* the house is static: per pose the scene's geom list is rebuilt in C
+  (``mjv_updateScene``, a few microseconds) and the camera and the headlight that follows
+  it are written straight into ``mjvScene``;
 * agent cameras need no shadows, reflections, skybox, fog or multisampling
   (``offsamples=0``, which also keeps segmentation exact at edges: nothing is blended);
-* poses are tiled as viewports over one large offscreen buffer (a "sheet"), RGB and depth
-  are read back with one ``mjr_readPixels`` per sheet, then the sheet is drawn again with
-  ``mjRND_SEGMENT | mjRND_IDCOLOR`` and read once more;
-* ids are decoded with numpy lookup tables (scene geom -> category / instance).
+* RGB and depth come from one lit pass; the id-colour pass (``mjRND_SEGMENT |
+  mjRND_IDCOLOR``, flat, unlit) is drawn beside it in the same buffer, and both are read
+  back together; id colours are decoded with numpy lookup tables (scene geom -> category
+  / instance), depth linearised with numpy;
+* every pose is drawn at the same place in the buffer, so a pose looks exactly the same
+  alone or in any batch (live and cached observations agree bit for bit); drawing many
+  poses side by side before one read-back (``tiles_per_read``) is not faster once
+  culling is on, and would break that.
 
 An optional ceiling (``settings.ceiling``, on by default) closes the rooms for agent
 cameras: houses are generated without one (so a top-down view sees in), but a camera at
@@ -30,6 +38,7 @@ import copy
 import hashlib
 import json
 import math
+import numbers
 from dataclasses import asdict, dataclass, fields
 
 from objsearch.sim.glbackend import RenderBackendError, check_mujoco_gl, create_gl_context
@@ -78,9 +87,11 @@ class RenderSettings:
     """Close the rooms with a ceiling (category ``ceiling``) at the top of the walls."""
 
     def __post_init__(self):
-        if not (isinstance(self.width, int) and isinstance(self.height, int) and 1 <= self.width <= MAX_SHEET
-                and 1 <= self.height <= MAX_SHEET):
+        if not all(isinstance(v, numbers.Integral) and 1 <= v <= MAX_SHEET for v in (self.width, self.height)):
             raise UserError(f"render size {self.width}x{self.height} must be integers in 1..{MAX_SHEET}")
+        for name, kind in (("width", int), ("height", int), ("fovy", float), ("camera_height", float), ("znear", float),
+                           ("zfar", float), ("ceiling", bool)):
+            object.__setattr__(self, name, kind(getattr(self, name)))  # plain Python types: JSON, stable keys
         if not 1.0 <= self.fovy <= 170.0:
             raise UserError(f"fovy={self.fovy} must be in [1, 170] degrees")
         if not 0.0 < self.znear < self.zfar:
@@ -153,25 +164,26 @@ class HouseRenderer:
         settings: The agent camera.
         cull: Draw only geoms that may be visible (``objsearch.sim.culling``); the images
             are identical either way. Off only to measure what it buys.
-        max_tiles: Most poses drawn per offscreen sheet (default: as many as fit in
-            ``MAX_SHEET``); 1 reads pixels back after every pose. For benchmarks.
+        tiles_per_read: Poses drawn side by side before one ``mjr_readPixels`` (default 1).
+            More tiles per read save read-backs but make images depend on where a pose
+            lands in the buffer (llvmpipe's texture interpolation: RGB off by 1 in about
+            0.05% of pixels), so a pose would not look the same alone and in a batch. With
+            culling on, one read per pose is as fast on llvmpipe. For benchmarks.
 
     Raises:
         RenderBackendError: No OpenGL backend works (see ``objsearch.sim.glbackend``).
     """
 
     def __init__(self, model: mujoco.MjModel, settings: RenderSettings = RenderSettings(), *, cull: bool = True,
-                 max_tiles: int | None = None):
+                 tiles_per_read: int = 1):
         self._gl = None
         self._con = None
         self.settings = settings
         w, h = settings.width, settings.height
-        # Sheet: tiles of RGB on the left half, the same poses' id colours on the right half.
-        self.cols = max(1, (MAX_SHEET // 2) // w)
-        self.rows = max(1, MAX_SHEET // h)
-        if max_tiles is not None:  # benchmarks: how much does reading many tiles at once buy?
-            self.cols = min(self.cols, max(1, max_tiles))
-            self.rows = min(self.rows, -(-max(1, max_tiles) // self.cols))
+        # Buffer: RGB tiles on the left half, the same poses' id colours on the right half.
+        per = max(1, int(tiles_per_read))
+        self.cols = min(per, max(1, (MAX_SHEET // 2) // w))
+        self.rows = min(-(-per // self.cols), max(1, MAX_SHEET // h))
         self.sheet_w, self.sheet_h = 2 * self.cols * w, self.rows * h
         # A private copy: per pose, culled geoms are moved to a hidden geom group.
         self.model = copy.deepcopy(model)
@@ -294,18 +306,44 @@ class HouseRenderer:
         out = Frames(rgb=np.empty((n, s.height, s.width, 3), np.uint8), depth=np.empty((n, s.height, s.width), np.float32),
                      semantic=np.empty((n, s.height, s.width), np.uint8), instance=np.empty((n, s.height, s.width), np.int16))
         self._gl.make_current()
-        per_sheet = self.cols * self.rows
-        for start in range(0, n, per_sheet):
-            self._render_sheet(poses[start:start + per_sheet], out, start)
+        w, h = s.width, s.height
+        raw = np.empty((n, h, 2 * w, 3), np.uint8)  # bottom-up rows; RGB | id colour
+        zbuf = np.empty((n, h, w), np.float32)
+        drawn = []  # per pose: the model geoms drawn, in scene order (None: all)
+        per = self.cols * self.rows
+        for chunk in range(0, n, per):
+            self._render_chunk(poses[chunk:chunk + per], raw[chunk:chunk + per], zbuf[chunk:chunk + per], drawn)
+        raw, zbuf = raw[:, ::-1], zbuf[:, ::-1]  # OpenGL rows run bottom-up
+        out.rgb[:] = raw[:, :, :w]
+        out.depth[:] = self._linear_depth(zbuf)
+        if self._one_byte_ids:
+            ids = raw[:, :, w:, 0].astype(np.intp)
+        else:
+            ids = raw[:, :, w:, 0].astype(np.intp) | (raw[:, :, w:, 1].astype(np.intp) << 8)
+        # Per-pose tables: id colour (scene index + 1; 0 = nothing drawn) -> category / instance.
+        width = self.model.ngeom + 2
+        sem_lut = np.full((n, width), BACKGROUND_ID, np.uint8)
+        inst_lut = np.full((n, width), -1, np.int16)
+        everything = np.arange(self.model.ngeom)
+        for k, geoms in enumerate(drawn):
+            geoms = everything if geoms is None else geoms
+            sem_lut[k, 1:len(geoms) + 1] = self._cats[geoms]
+            inst_lut[k, 1:len(geoms) + 1] = self._inst[geoms]
+            if self._ceiling is not None:
+                sem_lut[k, len(geoms) + 1] = CEILING_ID
+        flat = ids + (np.arange(n) * width)[:, None, None]
+        out.semantic[:] = sem_lut.ravel()[flat]
+        out.instance[:] = inst_lut.ravel()[flat]
         return out
 
-    def _render_sheet(self, poses: np.ndarray, out: Frames, start: int) -> None:
-        s, scn, con = self.settings, self._scn, self._con
-        w, h, n = s.width, s.height, len(poses)
-        used_rows = -(-n // self.cols)
-        cols = self.cols if used_rows > 1 else n
+    def _render_chunk(self, poses: np.ndarray, raw: np.ndarray, zbuf: np.ndarray, drawn: list) -> None:
+        """Draw up to cols * rows poses as tiles, read them into raw / zbuf (rows bottom-up)."""
+        scn, con = self._scn, self._con
+        h, w = zbuf.shape[1:]
+        n = len(poses)
+        cols = min(self.cols, n)
+        rows = -(-n // cols)
         half = cols * w
-        drawn = []  # model geom ids drawn for each pose, in scene order
         segment, idcolor = mujoco.mjtRndFlag.mjRND_SEGMENT, mujoco.mjtRndFlag.mjRND_IDCOLOR
         for k in range(n):
             visible = self._culler.visible(*poses[k]) if self._culler is not None else None
@@ -317,33 +355,17 @@ class HouseRenderer:
             scn.flags[segment] = scn.flags[idcolor] = 1
             mujoco.mjr_render(mujoco.MjrRect(half + left, bottom, w, h), scn, con)  # flat id colours
             scn.flags[segment] = scn.flags[idcolor] = 0
-        rgb = np.empty((used_rows * h, 2 * half, 3), np.uint8)
-        zbuf = np.empty((used_rows * h, 2 * half), np.float32)
-        mujoco.mjr_readPixels(rgb, zbuf, mujoco.MjrRect(0, 0, 2 * half, used_rows * h), con)
-
-        stop = start + n
-        out.rgb[start:stop] = self._untile(rgb[:, :half], n, cols)
-        out.depth[start:stop] = self._untile(self._linear_depth(zbuf[:, :half]), n, cols)
-        seg = rgb[:, half:]
-        if self._one_byte_ids:
-            ids = seg[..., 0].astype(np.intp)
-        else:
-            ids = seg[..., 0].astype(np.intp) | (seg[..., 1].astype(np.intp) << 8)
-        ids = self._untile(ids, n, cols)
-        # Per-pose tables: id colour -> category / instance (0 = nothing drawn).
-        everything = np.arange(self.model.ngeom)
-        width = self.model.ngeom + 2
-        sem_lut = np.full((n, width), BACKGROUND_ID, np.uint8)
-        inst_lut = np.full((n, width), -1, np.int16)
-        for k, geoms in enumerate(drawn):
-            geoms = everything if geoms is None else geoms
-            sem_lut[k, 1:len(geoms) + 1] = self._cats[geoms]
-            inst_lut[k, 1:len(geoms) + 1] = self._inst[geoms]
-            if self._ceiling is not None:
-                sem_lut[k, len(geoms) + 1] = CEILING_ID
-        flat = ids + (np.arange(n) * width)[:, None, None]
-        out.semantic[start:stop] = sem_lut.ravel()[flat]
-        out.instance[start:stop] = inst_lut.ravel()[flat]
+        if n == 1:  # straight into the output buffers (contiguous slices are written in place)
+            mujoco.mjr_readPixels(raw[0], None, mujoco.MjrRect(0, 0, 2 * w, h), con)
+            mujoco.mjr_readPixels(None, zbuf[0], mujoco.MjrRect(0, 0, w, h), con)
+            return
+        rgb = np.empty((rows * h, 2 * half, 3), np.uint8)
+        z = np.empty((rows * h, half), np.float32)
+        mujoco.mjr_readPixels(rgb, None, mujoco.MjrRect(0, 0, 2 * half, rows * h), con)
+        mujoco.mjr_readPixels(None, z, mujoco.MjrRect(0, 0, half, rows * h), con)
+        raw[:, :, :w] = self._untile(rgb[:, :half], n, cols)
+        raw[:, :, w:] = self._untile(rgb[:, half:], n, cols)
+        zbuf[:] = self._untile(z, n, cols)
 
     def _linear_depth(self, z: np.ndarray) -> np.ndarray:
         # Reverse-Z depth buffer (near -> 1, far -> 0, cleared to 0): invert the projection.
@@ -351,10 +373,10 @@ class HouseRenderer:
         return (f * n) / (z * (f - n) + n)
 
     def _untile(self, sheet: np.ndarray, n: int, cols: int) -> np.ndarray:
-        """(rows*H, cols*W, ...) bottom-up sheet -> (n, H, W, ...) top-down images, tile order."""
+        """(rows*H, cols*W, ...) sheet -> (n, H, W, ...) tiles in tile order (rows stay bottom-up)."""
         h, w = self.settings.height, self.settings.width
         rows = sheet.shape[0] // h
-        tiles = sheet.reshape(rows, h, cols, w, *sheet.shape[2:])[:, ::-1]
+        tiles = sheet.reshape(rows, h, cols, w, *sheet.shape[2:])
         tiles = np.swapaxes(tiles, 1, 2).reshape(rows * cols, h, w, *sheet.shape[2:])
         return tiles[:n]
 

@@ -1,5 +1,6 @@
 """HouseRenderer: shapes, exact segmentation, depth against ray casts, batching, culling, backends."""
 
+import ctypes.util
 import math
 import os
 import subprocess
@@ -139,10 +140,37 @@ def test_batch_equals_single_renders(renderer, poses, frames):
 
 
 def test_culling_changes_no_pixel(house, poses, frames):
-    with HouseRenderer(house.model, RenderSettings(width=SIZE, height=SIZE), cull=False, max_tiles=5) as full:
+    with HouseRenderer(house.model, RenderSettings(width=SIZE, height=SIZE), cull=False) as full:
         everything = full.render(poses)
     for name in ("rgb", "depth", "semantic", "instance"):
         assert np.array_equal(getattr(everything, name), getattr(frames, name)), name
+
+
+def test_tiled_reads_put_each_pose_in_its_place(house, poses, frames):
+    # several poses per read-back: same labels and depth; RGB may differ by 1 where textures
+    # are interpolated at another buffer position
+    with HouseRenderer(house.model, RenderSettings(width=SIZE, height=SIZE), tiles_per_read=5) as tiled:
+        f = tiled.render(poses)
+    assert np.array_equal(f.semantic, frames.semantic) and np.array_equal(f.instance, frames.instance)
+    assert np.allclose(f.depth, frames.depth, atol=1e-4)
+    assert np.abs(f.rgb.astype(int) - frames.rgb).max() <= 2
+
+
+def test_two_byte_ids_decode_like_one_byte_ids(house, poses, frames):
+    # houses with more than 253 geoms need the green channel too
+    with HouseRenderer(house.model, RenderSettings(width=SIZE, height=SIZE)) as r:
+        r._one_byte_ids = False
+        f = r.render(poses[:4])
+    assert np.array_equal(f.semantic, frames.semantic[:4]) and np.array_equal(f.instance, frames.instance[:4])
+
+
+def test_without_ceiling_the_sky_is_background_at_zfar(house, poses):
+    s = RenderSettings(width=SIZE, height=SIZE, ceiling=False)
+    with HouseRenderer(house.model, s) as r:
+        f = r.render(poses[:4])
+    sky = f.semantic == BACKGROUND_ID
+    assert sky.any() and (f.depth[sky] == pytest.approx(s.zfar)) and (f.rgb[sky] == 0).all()
+    assert not (f.semantic == CATEGORY_IDS["ceiling"]).any()
 
 
 def test_opposite_headings_see_different_things(renderer, poses):
@@ -201,6 +229,13 @@ def test_requested_backends():
 def _python(code: str, mujoco_gl: str) -> subprocess.CompletedProcess:
     env = {**os.environ, "MUJOCO_GL": mujoco_gl}
     return subprocess.run([sys.executable, "-c", code], env=env, capture_output=True, text=True, timeout=120)
+
+
+@pytest.mark.skipif(ctypes.util.find_library("OSMesa") is not None, reason="OSMesa is installed here")
+def test_missing_osmesa_is_a_clear_error():
+    proc = _python("import objsearch.sim.renderer", "osmesa")
+    assert proc.returncode != 0
+    assert "RenderBackendError" in proc.stderr and "libOSMesa is not installed" in proc.stderr
 
 
 def test_bogus_backend_is_a_clear_error():

@@ -1,0 +1,70 @@
+"""``objsearch train``: train an agent on a suite, resumably.
+
+objsearch never imports ``objsearch_agents`` (or any agent package) statically. The agent is
+found by name through the registry, like ``objsearch eval`` finds it, and trained through
+its class's hook::
+
+    AgentClass.train(*, suite, out, episodes, seed, overrides, fresh, progress, command) -> dict
+
+(``overrides``: the ``--set KEY=VALUE`` pairs, interpreted by the agent's config). An agent
+class without ``train`` cannot be trained here. Re-running the same command resumes the run
+in ``--out`` from its last checkpoint; Ctrl-C finishes the current step, writes a
+checkpoint and exits with 130.
+"""
+
+from __future__ import annotations
+
+import argparse
+import shlex
+import sys
+
+from objsearch.errors import UserError
+
+
+def _key_value(text: str) -> tuple[str, str]:
+    key, sep, value = text.partition("=")
+    if not sep or not key:
+        raise argparse.ArgumentTypeError(f"expected KEY=VALUE, got {text!r}")
+    return key.strip(), value.strip()
+
+
+def _non_negative(text: str) -> int:
+    try:
+        value = int(text)
+    except ValueError:
+        value = -1
+    if value < 0:
+        raise argparse.ArgumentTypeError(f"expected a non-negative integer, got {text!r}")
+    return value
+
+
+def add_parser(subparsers) -> None:
+    parser = subparsers.add_parser("train", help="train an agent on a suite (resumable)", description=__doc__,
+                                   formatter_class=argparse.RawDescriptionHelpFormatter)
+    parser.add_argument("--agent", required=True, help="registered agent name or package.module:Class")
+    parser.add_argument("--suite", default="gridworld", help="suite to train on (default: gridworld)")
+    parser.add_argument("--episodes", type=_non_negative, help="training episodes (default: the agent's, the paper's 100000)")
+    parser.add_argument("--seed", type=_non_negative, default=0, help="run seed (default: 0)")
+    parser.add_argument("--out", help="run directory (default: runs/SUITE/AGENT-seedS); an existing run there is resumed")
+    parser.add_argument("--set", action="append", type=_key_value, default=[], dest="overrides", metavar="KEY=VALUE",
+                        help="override a field of the agent's training config; repeatable")
+    parser.add_argument("--fresh", action="store_true", help="start over even if --out holds a run")
+    parser.add_argument("--quiet", action="store_true", help="no progress bar")
+    parser.set_defaults(func=run)
+
+
+def run(args: argparse.Namespace) -> int:
+    from objsearch.eval.registry import resolve_agent
+
+    cls = resolve_agent(args.agent)
+    trainer = getattr(cls, "train", None)
+    if not callable(trainer):
+        raise UserError(f"agent {args.agent!r} cannot be trained (its class has no train(...) classmethod)")
+    out = args.out or f"runs/{args.suite}/{args.agent.replace(':', '.')}-seed{args.seed}"
+    command = "objsearch " + " ".join(shlex.quote(a) for a in sys.argv[1:]) if sys.argv[1:2] == ["train"] else None
+    summary = trainer(
+        suite=args.suite, out=out, episodes=args.episodes, seed=args.seed, overrides=dict(args.overrides),
+        fresh=args.fresh, progress=not args.quiet, command=command,
+    )
+    print(f"{args.agent}: {summary.get('finished')} episodes, {summary.get('env_steps')} env steps in {out}", file=sys.stderr)
+    return 130 if summary.get("interrupted") else 0
