@@ -20,6 +20,7 @@ COMMANDS = [
     "objsearch.leaderboard.cli",
     "objsearch.house.cli",
     "objsearch.sim.cli",
+    "objsearch.perception.cli",
     "objsearch.train",
 ]
 

@@ -18,6 +18,7 @@ import argparse
 import shlex
 import sys
 
+from objsearch.cliargs import non_negative_int
 from objsearch.errors import UserError
 
 
@@ -28,23 +29,13 @@ def _key_value(text: str) -> tuple[str, str]:
     return key.strip(), value.strip()
 
 
-def _non_negative(text: str) -> int:
-    try:
-        value = int(text)
-    except ValueError:
-        value = -1
-    if value < 0:
-        raise argparse.ArgumentTypeError(f"expected a non-negative integer, got {text!r}")
-    return value
-
-
 def add_parser(subparsers) -> None:
     parser = subparsers.add_parser("train", help="train an agent on a suite (resumable)", description=__doc__,
                                    formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("--agent", required=True, help="registered agent name or package.module:Class")
     parser.add_argument("--suite", default="gridworld", help="suite to train on (default: gridworld)")
-    parser.add_argument("--episodes", type=_non_negative, help="training episodes (default: the agent's, the paper's 100000)")
-    parser.add_argument("--seed", type=_non_negative, default=0, help="run seed (default: 0)")
+    parser.add_argument("--episodes", type=non_negative_int, help="training episodes (default: the agent's, the paper's 100000)")
+    parser.add_argument("--seed", type=non_negative_int, default=0, help="run seed (default: 0)")
     parser.add_argument("--out", help="run directory (default: runs/SUITE/AGENT-seedS); an existing run there is resumed")
     parser.add_argument("--set", action="append", type=_key_value, default=[], dest="overrides", metavar="KEY=VALUE",
                         help="override a field of the agent's training config; repeatable")

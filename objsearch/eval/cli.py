@@ -5,39 +5,10 @@ from __future__ import annotations
 import argparse
 import sys
 
+from objsearch.cliargs import positive_int, seconds, seed_list
 from objsearch.errors import UserError
 
 DEFAULT_AGENT = "random"
-
-
-def _seeds(text: str) -> tuple[int, ...]:
-    try:
-        seeds = tuple(int(s) for s in text.split(",") if s.strip())
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"seeds must be comma-separated integers, e.g. 1,5,13 (got {text!r})") from None
-    if not seeds:
-        raise argparse.ArgumentTypeError("give at least one seed")
-    return seeds
-
-
-def _positive(text: str) -> int:
-    try:
-        value = int(text)
-    except ValueError:
-        value = 0
-    if value < 1:
-        raise argparse.ArgumentTypeError(f"expected a positive integer, got {text!r}")
-    return value
-
-
-def _seconds(text: str) -> float:
-    try:
-        value = float(text)
-    except ValueError:
-        value = -1.0
-    if value < 0:
-        raise argparse.ArgumentTypeError(f"expected a number of seconds >= 0, got {text!r}")
-    return value
 
 
 def configure(parser: argparse.ArgumentParser) -> argparse.ArgumentParser:
@@ -48,22 +19,22 @@ def configure(parser: argparse.ArgumentParser) -> argparse.ArgumentParser:
     parser.add_argument("--suite", default=DEFAULT_SUITE, help=f"suite to evaluate on (default: {DEFAULT_SUITE})")
     parser.add_argument("--split", action="append", dest="splits", metavar="NAME", help="split to run; repeat for several (default: all)")
     parser.add_argument(
-        "--seeds", type=_seeds, default=PAPER_SEEDS, help="comma-separated evaluation seeds (default: the paper's 1,5,13,45,99)"
+        "--seeds", type=seed_list, default=PAPER_SEEDS, help="comma-separated evaluation seeds (default: the paper's 1,5,13,45,99)"
     )
-    parser.add_argument("--workers", type=_positive, default=1, help="worker processes; results are identical for any number")
+    parser.add_argument("--workers", type=positive_int, default=1, help="worker processes; results are identical for any number")
     parser.add_argument("--checkpoint", help="checkpoint passed to the agent's load()")
     parser.add_argument(
         "--out", help="write the results JSON here; an interrupted run resumes from OUT.partial.jsonl when rerun"
     )
     parser.add_argument("--maps", help="grid world: a directory of map_XXXX.npz to use instead of the test maps")
     parser.add_argument("--tasks", help="grid world: a JSONL task file over --maps; one split named after the file")
-    parser.add_argument("--max-steps", type=_positive, help="step limit per episode (default: the suite's)")
+    parser.add_argument("--max-steps", type=positive_int, help="step limit per episode (default: the suite's)")
     parser.add_argument(
         "--render", choices=("cached", "live"), help="house suites: pre-rendered observations (default) or render each step"
     )
     parser.add_argument("--cache-dir", help="house suites: observation cache folder (default: $OBJSEARCH_CACHE or ~/.cache/objsearch)")
     parser.add_argument(
-        "--step-time-limit", type=_seconds, default=10.0, metavar="SECONDS",
+        "--step-time-limit", type=seconds, default=10.0, metavar="SECONDS",
         help="an agent call that takes longer fails its episode (default: 10; 0: no limit)",
     )
     parser.add_argument("--executor", choices=("local", "ray"), default="local", help="local processes or a Ray cluster")

@@ -10,31 +10,15 @@ from __future__ import annotations
 import argparse
 import sys
 
+from objsearch.cliargs import non_negative_int, positive_int
 from objsearch.errors import UserError
-
-
-def _nonneg(text: str) -> int:
-    try:
-        value = int(text)
-    except ValueError:
-        value = -1
-    if value < 0:
-        raise argparse.ArgumentTypeError(f"expected a non-negative integer, got {text!r}")
-    return value
-
-
-def _positive(text: str) -> int:
-    value = _nonneg(text)
-    if value < 1:
-        raise argparse.ArgumentTypeError(f"expected a positive integer, got {text!r}")
-    return value
 
 
 def add_parser(subparsers) -> None:
     p = subparsers.add_parser("generate", help="generate MuJoCo houses (house.xml, spec.json, preview.png)", description=__doc__,
                               formatter_class=argparse.RawDescriptionHelpFormatter)
-    p.add_argument("--seed", type=_nonneg, default=0, help="first seed (default: 0)")
-    p.add_argument("--num", type=_positive, default=1, help="number of houses, seeds S..S+N-1 (default: 1)")
+    p.add_argument("--seed", type=non_negative_int, default=0, help="first seed (default: 0)")
+    p.add_argument("--num", type=positive_int, default=1, help="number of houses, seeds S..S+N-1 (default: 1)")
     p.add_argument("--out", required=True, help="output directory")
     p.add_argument("--rooms", choices=("small", "medium", "large"), help="size class: 3-4, 4-6 or 6-9 rooms (default: drawn per seed)")
     p.add_argument("--split", choices=("train", "test"), default="train", help="test houses use the reserved mesh variants")

@@ -10,6 +10,11 @@ else ``~/.cache/objsearch``, or what the caller passes.
 
 Depth is rounded to the millimetre in both modes (``quantize_depth``), so live and cached
 observations are identical.
+
+``PredictedCache`` is the same for a network's predictions (the env's ``observation=
+"predicted"``): ``semantic.npy`` and ``depth.npy`` predicted from the cached RGB of every
+pose by any ``Predictor`` (``objsearch.perception.inference.Predictor`` is one), in
+``<cache dir>/<house_id>-<key>-pred-<predictor key>/``.
 """
 
 from __future__ import annotations
@@ -20,6 +25,7 @@ import os
 import shutil
 import tempfile
 from pathlib import Path
+from typing import Protocol
 
 import numpy as np
 from tqdm import tqdm
@@ -29,6 +35,7 @@ from objsearch.sim.renderer import HouseRenderer, RenderSettings
 from objsearch.sim.world import World
 
 CACHE_VERSION = "cache-v1"
+PREDICTED_VERSION = "predicted-cache-v1"
 BATCH = 256
 LAYERS = ("rgb", "depth", "semantic")
 
@@ -122,3 +129,64 @@ def _build(world: World, settings: RenderSettings, directory: Path, meta: dict, 
     except BaseException:
         shutil.rmtree(tmp, ignore_errors=True)
         raise
+
+
+class Predictor(Protocol):
+    """Segmentation and depth from RGB (what ``PredictedCache`` needs of a network)."""
+
+    key: str
+    """Identity of the network and its weights (part of the cache key)."""
+
+    def predict(self, rgb: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """uint8 (N, H, W, 3) -> (semantic uint8 (N, H, W), depth float32 (N, H, W) metres)."""
+        ...
+
+
+class PredictedCache:
+    """A predictor's semantic and depth at every pose of one house, memory-mapped.
+
+    Built from the house's ``HouseCache`` RGB (rendered first if needed); depth is rounded
+    to the millimetre like the ground truth's.
+    """
+
+    def __init__(self, directory: Path, meta: dict):
+        self.directory = directory
+        self.meta = meta
+        self.depth = np.asarray(np.load(directory / "depth.npy", mmap_mode="r"))
+        self.semantic = np.asarray(np.load(directory / "semantic.npy", mmap_mode="r"))
+
+    @classmethod
+    def open(cls, world: World, settings: RenderSettings, predictor: Predictor, cache_dir: str | Path | None = None,
+             progress: bool = True) -> "PredictedCache":
+        """Open the predictions of ``predictor`` for the house, computing them if missing or stale."""
+        gt = HouseCache.open(world, settings, cache_dir, progress)
+        directory = gt.directory.parent / f"{gt.directory.name}-pred-{predictor.key}"
+        expected = {"version": PREDICTED_VERSION, "observations": gt.meta["key"], "predictor": predictor.key,
+                    "house_id": world.house_id, "settings": settings.to_dict(), "num_poses": gt.num_poses}
+        try:
+            if json.loads((directory / "meta.json").read_text()) == expected:
+                return cls(directory, expected)
+        except (OSError, ValueError):
+            pass
+        tmp = Path(tempfile.mkdtemp(dir=directory.parent, prefix=f".{directory.name}.", suffix=".tmp"))
+        try:
+            n, h, w = gt.semantic.shape
+            depth = np.lib.format.open_memmap(tmp / "depth.npy", mode="w+", dtype=np.float32, shape=(n, h, w))
+            semantic = np.lib.format.open_memmap(tmp / "semantic.npy", mode="w+", dtype=np.uint8, shape=(n, h, w))
+            with tqdm(total=n, desc=f"predict {world.house_id}", unit="pose", disable=not progress or None) as bar:
+                for start in range(0, n, BATCH):
+                    sem, dep = predictor.predict(gt.rgb[start : start + BATCH])
+                    semantic[start : start + len(sem)] = sem
+                    depth[start : start + len(sem)] = quantize_depth(dep)
+                    bar.update(len(sem))
+            for array in (depth, semantic):
+                array.flush()
+            del depth, semantic
+            (tmp / "meta.json").write_text(json.dumps(expected, indent=1) + "\n")
+            if directory.exists():
+                shutil.rmtree(directory)
+            os.replace(tmp, directory)
+        except BaseException:
+            shutil.rmtree(tmp, ignore_errors=True)
+            raise
+        return cls(directory, expected)

@@ -10,13 +10,14 @@ import numpy as np
 from gymnasium import spaces
 
 from objsearch.house.categories import CATEGORY_IDS
-from objsearch.sim.cache import HouseCache, quantize_depth
+from objsearch.sim.cache import HouseCache, PredictedCache, Predictor, quantize_depth
 from objsearch.sim.goals import DEFAULT_RULE, GOAL_CAMERA, GoalRule, goal_poses
 from objsearch.sim.navgraph import ACTIONS, NUM_MOVE_ACTIONS, STOP
 from objsearch.sim.renderer import RenderSettings
 from objsearch.sim.world import HouseRef, World
 
 MODES = ("cached", "live")
+OBSERVATIONS = ("gt", "predicted")
 START_STEPS = (6, 40)  # sampled starts: minimal steps to the nearest goal pose in this range
 NUM_CATEGORY_IDS = max(CATEGORY_IDS.values()) + 1
 
@@ -78,9 +79,14 @@ class HouseEnv(gymnasium.Env):
     (every pose pre-rendered, memory-mapped; ``objsearch.sim.cache``) or ``live`` (render
     each step); both give identical observations. ``settings``: camera. ``cache_dir``.
     ``goal_rule``. ``targets``: categories sampled episodes may ask for.
+    ``observation``: ``gt`` (rendered ground truth) or ``predicted``: ``semantic`` and
+    ``depth`` come from ``predictor`` (e.g. ``objsearch.perception.inference.Predictor``)
+    applied to the RGB, pre-computed for every pose in cached mode
+    (``objsearch.sim.cache.PredictedCache``); ``rgb`` and success stay ground truth.
 
     ## Version History
-    * v0: initial release (pose graph navgraph-v1, goal rule goals-v1).
+    * v0: initial release (pose graph navgraph-v1, goal rule goals-v1); ``observation=
+      "predicted"`` added later (the default ``gt`` is unchanged).
     """
 
     metadata = {"render_modes": ["rgb_array"], "render_fps": 4}
@@ -96,9 +102,19 @@ class HouseEnv(gymnasium.Env):
         goal_rule: GoalRule = DEFAULT_RULE,
         targets: Sequence[str] | None = None,
         render_mode: str | None = None,
+        observation: str = "gt",
+        predictor: Predictor | None = None,
     ):
         if mode not in MODES:
             raise ValueError(f"mode must be one of {MODES}, not {mode!r}")
+        if observation not in OBSERVATIONS:
+            raise ValueError(f"observation must be one of {OBSERVATIONS}, not {observation!r}")
+        if observation == "predicted" and predictor is None:
+            raise ValueError("observation='predicted' needs a predictor (objsearch.perception.inference.Predictor.from_checkpoint)")
+        trained_on = getattr(predictor, "settings", None)
+        if observation == "predicted" and trained_on is not None and dict(trained_on) != settings.to_dict():
+            raise ValueError(f"the predictor was trained on frames rendered with {dict(trained_on)}, the env renders {settings.to_dict()}")
+        self.observation, self.predictor = observation, predictor
         self.refs = list(houses) if houses else [HouseRef(seed=0)]
         self.mode, self.settings, self.max_steps = mode, settings, int(max_steps)
         self.stop_action, self.cache_dir, self.goal_rule = stop_action, cache_dir, goal_rule
@@ -118,6 +134,8 @@ class HouseEnv(gymnasium.Env):
         self._worlds: dict[str, World] = {}  # house id -> house
         self._sources: dict[str, Any] = {}  # house id -> HouseCache or HouseRenderer
         self._goal_cache: dict[str, HouseCache] = {}
+        self._predicted: dict[str, PredictedCache] = {}  # house id -> predictions (cached + predicted)
+        self._predicted_now: PredictedCache | None = None
         self._goals: dict[tuple, np.ndarray] = {}  # (house, target) -> goal pose ids
         self._steps_to: dict[tuple, np.ndarray] = {}  # (house, goal ids) -> steps from every pose
         self._world: World | None = None
@@ -149,6 +167,14 @@ class HouseEnv(gymnasium.Env):
 
                 self._sources[world.house_id] = HouseRenderer(world.model, self.settings)
         return self._sources[world.house_id]
+
+    def _attach(self, world: World) -> None:
+        self._source_now = self._source(world)
+        self._predicted_now = None
+        if self.observation == "predicted" and self.mode == "cached":
+            if world.house_id not in self._predicted:
+                self._predicted[world.house_id] = PredictedCache.open(world, self.settings, self.predictor, self.cache_dir)
+            self._predicted_now = self._predicted[world.house_id]
 
     def goal_pose_ids(self, world: World, target: str) -> np.ndarray:
         """Goal poses of ``target`` by the goal rule (renders the goal camera's cache)."""
@@ -212,7 +238,7 @@ class HouseEnv(gymnasium.Env):
             )
         self._next = graph.next_pose
         self._target_id = CATEGORY_IDS[task.target]
-        self._source_now = self._source(world)
+        self._attach(world)
         self._steps, self._done = 0, False
         return self._observe(), self._info(False)
 
@@ -246,12 +272,13 @@ class HouseEnv(gymnasium.Env):
     def __getstate__(self):
         state = dict(self.__dict__)
         state["_sources"], state["_goal_cache"], state["_source_now"] = {}, {}, None
+        state["_predicted"], state["_predicted_now"] = {}, None
         return state
 
     def __setstate__(self, state):
         self.__dict__.update(state)
         if self._world is not None:
-            self._source_now = self._source(self._world)
+            self._attach(self._world)
 
     # -- helpers ----------------------------------------------------------------------
     @property
@@ -262,11 +289,15 @@ class HouseEnv(gymnasium.Env):
         source = self._source_now
         if self.mode == "cached":
             p = self._pose
+            labels = self._predicted_now if self._predicted_now is not None else source
             # copies: the caller owns what it is given (Gymnasium's contract)
-            return {"rgb": source.rgb[p].copy(), "depth": source.depth[p].copy(), "semantic": source.semantic[p].copy(),
+            return {"rgb": source.rgb[p].copy(), "depth": labels.depth[p].copy(), "semantic": labels.semantic[p].copy(),
                     "target": self._target_id}
         frames = source.render(self._world.graph.world_poses([self._pose]))
-        return {"rgb": frames.rgb[0], "depth": quantize_depth(frames.depth[0]), "semantic": frames.semantic[0], "target": self._target_id}
+        semantic, depth = frames.semantic, frames.depth
+        if self.observation == "predicted":
+            semantic, depth = self.predictor.predict(frames.rgb)
+        return {"rgb": frames.rgb[0], "depth": quantize_depth(depth[0]), "semantic": semantic[0], "target": self._target_id}
 
     def _info(self, success: bool) -> dict[str, Any]:
         return {

@@ -80,18 +80,7 @@ class PoseGraph:
         """Minimal actions from every pose to the nearest of ``goal_poses`` (-1: unreachable).
 
         BFS backwards over the transition table, one frontier per distance."""
-        dist = np.full(self.num_poses, -1, dtype=np.int32)
-        frontier = np.zeros(self.num_poses, dtype=bool)
-        frontier[np.asarray(goal_poses, dtype=np.int64)] = True
-        dist[frontier] = 0
-        moves = self.next_pose[:, :NUM_MOVE_ACTIONS]
-        d = 0
-        while frontier.any():
-            d += 1
-            reached = frontier[moves].any(axis=1) & (dist < 0)
-            dist[reached] = d
-            frontier = reached
-        return dist
+        return _backward_bfs(self.next_pose[:, :NUM_MOVE_ACTIONS], goal_poses)
 
     def shortest_path(self, start: int, goal_poses) -> list[int]:
         """Actions of one shortest path from ``start`` to the goal set (ties: lowest action)."""
@@ -112,19 +101,24 @@ class PoseGraph:
         # cell -> the 4 neighbour cells: moves ahead/back of the heading-0 (+-x) and
         # heading-1 (+-y) pose of each cell (blocked moves lead back to the cell itself)
         cell_moves = np.concatenate([self.next_pose[0::4, [0, 3]], self.next_pose[1::4, [0, 3]]], axis=1) // 4
-        goal_cells = np.unique(np.asarray(goal_poses) // 4)
-        dist = np.full(len(self.cells), -1, dtype=np.int32)
-        frontier = np.zeros(len(self.cells), dtype=bool)
-        frontier[goal_cells] = True
-        dist[frontier] = 0
-        d = 0
-        while frontier.any():
-            d += 1
-            reached = frontier[cell_moves].any(axis=1) & (dist < 0)
-            dist[reached] = d
-            frontier = reached
-        steps = dist[start // 4]
+        steps = _backward_bfs(cell_moves, np.asarray(goal_poses) // 4)[start // 4]
         return float("inf") if steps < 0 else steps * GRID
+
+
+def _backward_bfs(transitions: np.ndarray, targets) -> np.ndarray:
+    """Steps from every node to the nearest target (-1: none), where ``transitions[n]``
+    lists the nodes reachable from n in one step; one vectorised frontier per distance."""
+    dist = np.full(len(transitions), -1, dtype=np.int32)
+    frontier = np.zeros(len(transitions), dtype=bool)
+    frontier[np.asarray(targets, dtype=np.int64)] = True
+    dist[frontier] = 0
+    d = 0
+    while frontier.any():
+        d += 1
+        reached = frontier[transitions].any(axis=1) & (dist < 0)
+        dist[reached] = d
+        frontier = reached
+    return dist
 
 
 def _free_points(grid: OccupancyGrid, x: np.ndarray, y: np.ndarray) -> np.ndarray:

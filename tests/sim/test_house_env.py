@@ -12,20 +12,18 @@ from objsearch.sim.env import START_STEPS, HouseEnv
 from objsearch.sim.navgraph import STOP
 from objsearch.sim.wrappers import FrameHistory, TargetMaskDepth
 
-from conftest import SMALL_HOUSE
-
 
 @pytest.fixture(scope="module")
-def env(cache_dir):
-    env = HouseEnv([SMALL_HOUSE], mode="cached", cache_dir=cache_dir)
+def env(cache_dir, small_house):
+    env = HouseEnv([small_house], mode="cached", cache_dir=cache_dir)
     yield env
     env.close()
 
 
-def test_passes_check_env(cache_dir):
+def test_passes_check_env(cache_dir, small_house):
     with warnings.catch_warnings():
         warnings.simplefilter("error")
-        env = gymnasium.make("ObjSearch/House-v0", houses=[SMALL_HOUSE], cache_dir=cache_dir)
+        env = gymnasium.make("ObjSearch/House-v0", houses=[small_house], cache_dir=cache_dir)
         check_env(env.unwrapped)
         env.close()
         env.close()
@@ -51,10 +49,10 @@ def rollout(env, task, actions):
     return out
 
 
-def test_live_and_cached_observations_are_identical(env, cache_dir):
+def test_live_and_cached_observations_are_identical(env, cache_dir, small_house):
     task = env.sample_task(np.random.default_rng(1))
     actions = np.random.default_rng(2).integers(6, size=50)
-    live = HouseEnv([SMALL_HOUSE], mode="live", cache_dir=cache_dir)
+    live = HouseEnv([small_house], mode="live", cache_dir=cache_dir)
     cached, rendered = rollout(env, task, actions), rollout(live, task, actions)
     live.close()
     assert len(cached) == len(rendered)
@@ -79,8 +77,8 @@ def test_oracle_path_reaches_a_goal_in_min_steps(env):
     assert target_pixels > 0, "a goal pose sees its target"
 
 
-def test_stop_action_variant(cache_dir):
-    env = HouseEnv([SMALL_HOUSE], mode="cached", cache_dir=cache_dir, stop_action=True)
+def test_stop_action_variant(cache_dir, small_house):
+    env = HouseEnv([small_house], mode="cached", cache_dir=cache_dir, stop_action=True)
     assert env.action_space.n == 7
     task = env.sample_task(np.random.default_rng(4))
     env.reset(options={"task": task})
@@ -95,8 +93,8 @@ def test_stop_action_variant(cache_dir):
     assert terminated and info["success"] and reward == 1.0
 
 
-def test_truncation_and_blocked_moves(cache_dir):
-    env = HouseEnv([SMALL_HOUSE], mode="cached", cache_dir=cache_dir, max_steps=5)
+def test_truncation_and_blocked_moves(cache_dir, small_house):
+    env = HouseEnv([small_house], mode="cached", cache_dir=cache_dir, max_steps=5)
     task = env.sample_task(np.random.default_rng(5))
     env.reset(options={"task": task})
     graph = env.world(task.house).graph
@@ -120,8 +118,8 @@ def test_pickle_round_trip(env):
     clone.close()
 
 
-def test_small_observation_wrappers(cache_dir):
-    base = HouseEnv([SMALL_HOUSE], mode="cached", cache_dir=cache_dir)
+def test_small_observation_wrappers(cache_dir, small_house):
+    base = HouseEnv([small_house], mode="cached", cache_dir=cache_dir)
     env = FrameHistory(TargetMaskDepth(base, size=10), k=4)
     task = base.sample_task(np.random.default_rng(7))
     obs, _ = env.reset(options={"task": task})
@@ -136,8 +134,8 @@ def test_small_observation_wrappers(cache_dir):
     assert np.array_equal(obs[:3], np.repeat(first[None], 3, axis=0)), "the new frame enters at the end"
 
 
-def test_vector_env(cache_dir):
-    envs = gymnasium.make_vec("ObjSearch/House-v0", num_envs=2, vectorization_mode="sync", houses=[SMALL_HOUSE], cache_dir=cache_dir)
+def test_vector_env(cache_dir, small_house):
+    envs = gymnasium.make_vec("ObjSearch/House-v0", num_envs=2, vectorization_mode="sync", houses=[small_house], cache_dir=cache_dir)
     obs, _ = envs.reset(seed=0)
     assert obs["rgb"].shape == (2, 64, 64, 3)
     obs, reward, terminated, truncated, _ = envs.step(np.array([0, 1]))
