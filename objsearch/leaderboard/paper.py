@@ -1,6 +1,8 @@
 """The paper's published numbers (Ye et al., CVPR 2021), shown beside our rows for reference.
 
-Grid world: Tables 1 and 2 (unseen maps); values are SR, AS, MS, SPL.
+Grid world: Tables 1 and 2 (unseen maps); values are SR, AS, MS, SPL. House3D: Table 3
+(SR and SPL only), beside our ``house-single`` and ``house-multi`` suites, which follow its
+protocol in our own generated houses.
 """
 
 GRIDWORLD_SPLITS = ("seen-goals", "unseen-goals", "all-goals")
@@ -18,8 +20,27 @@ _GRIDWORLD = {
 }
 
 
+_HOUSE3D = {
+    # method: (SR, SPL) for single env seen goals, unseen goals; multiple envs seen, unseen
+    "Random": ((0.20, 0.05), (0.23, 0.04), (0.39, 0.03), (0.60, 0.05)),
+    "DQN": ((0.58, 0.27), (0.18, 0.05), (0.42, 0.06), (0.39, 0.04)),
+    "A3C": ((0.53, 0.18), (0.27, 0.09), (0.48, 0.03), (0.47, 0.03)),
+    "h-DQN": ((0.77, 0.15), (0.05, 0.00), (0.43, 0.05), (0.28, 0.02)),
+    "HRL-GRG": ((0.88, 0.33), (0.79, 0.21), (0.76, 0.20), (0.62, 0.10)),
+}
+HOUSE3D_SPLITS = {
+    ("house-single", "seen-goals"): 0,
+    ("house-single", "unseen-goals"): 1,
+    ("house-multi", "seen-envs"): 2,
+    ("house-multi", "unseen-envs"): 3,
+}
+
+
 def paper_rows(suite: str, split: str) -> list[dict]:
     """The paper's rows for a suite and split ([] where the paper has none)."""
+    if (suite, split) in HOUSE3D_SPLITS:
+        i = HOUSE3D_SPLITS[(suite, split)]
+        return [{"name": name, "sr": v[i][0], "as": None, "ms": None, "spl": v[i][1]} for name, v in _HOUSE3D.items()]
     if suite != "gridworld" or split not in GRIDWORLD_SPLITS:
         return []
     i = GRIDWORLD_SPLITS.index(split)
