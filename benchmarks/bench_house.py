@@ -4,8 +4,10 @@ observation cache (build time per house, cached env steps per second).
     .venv/bin/python benchmarks/bench_house.py [--seed 2] [--json]
 
 With ``--json`` the last line is one JSON object with ``live_fps_64``, ``live_fps_128``,
-``naive_fps_64``, ``naive_fps_128``, ``cached_steps_per_s``, ``cache_build_s_per_house`` and
-``poses``. Rendering figures come from ``bench_render.py`` (same folder).
+``naive_fps_64``, ``naive_fps_128``, ``cached_steps_per_s`` (one ``HouseEnv``),
+``cached_vector_steps_per_s`` (``HouseVectorEnv`` of 256), ``cache_build_s_per_house`` and
+``poses``. Rendering figures come from ``bench_render.py`` (same folder). Steps per second
+are also given per CPU second (``*_cpu``), which a busy machine changes less.
 """
 
 from __future__ import annotations
@@ -28,20 +30,34 @@ from objsearch.sim.cache import HouseCache  # noqa: E402
 from objsearch.sim.env import HouseEnv  # noqa: E402
 from objsearch.sim.goals import GOAL_CAMERA  # noqa: E402
 from objsearch.sim.renderer import RenderSettings  # noqa: E402
+from objsearch.sim.vector import HouseVectorEnv  # noqa: E402
 from objsearch.sim.world import HouseRef, World  # noqa: E402
 
 
-def cached_steps_per_s(ref: HouseRef, cache_dir: str, steps: int = 200_000) -> float:
-    """Random actions through ``HouseEnv`` in cached mode, resets included, one process."""
+def cached_steps_per_s(ref: HouseRef, cache_dir: str, steps: int = 200_000) -> tuple[float, float]:
+    """Random actions through ``HouseEnv`` in cached mode, resets included, one process:
+    (steps per wall second, steps per CPU second)."""
     env = HouseEnv([ref], mode="cached", cache_dir=cache_dir)
     env.reset(seed=0)
     actions = np.random.default_rng(0).integers(6, size=steps).tolist()
-    start = time.perf_counter()
+    wall, cpu = time.perf_counter(), time.process_time()
     for action in actions:
         _, _, terminated, truncated, _ = env.step(action)
         if terminated or truncated:
             env.reset()
-    return steps / (time.perf_counter() - start)
+    return steps / (time.perf_counter() - wall), steps / (time.process_time() - cpu)
+
+
+def cached_vector_steps_per_s(ref: HouseRef, cache_dir: str, num_envs: int = 256, steps: int = 400) -> tuple[float, float]:
+    """The same through ``HouseVectorEnv`` (same-step autoreset), ``num_envs`` at a time."""
+    env = HouseVectorEnv(num_envs, houses=[ref], cache_dir=cache_dir)
+    env.reset(seed=0)
+    actions = np.random.default_rng(0).integers(6, size=(steps, num_envs))
+    wall, cpu = time.perf_counter(), time.process_time()
+    for batch in actions:
+        env.step(batch)
+    total = steps * num_envs
+    return total / (time.perf_counter() - wall), total / (time.process_time() - cpu)
 
 
 def main() -> None:
@@ -63,7 +79,10 @@ def main() -> None:
         start = time.perf_counter()
         HouseCache.open(world, GOAL_CAMERA, cache_dir, progress=False)
         out["cache_build_s_per_house"] = round(time.perf_counter() - start, 2)
-        out["cached_steps_per_s"] = round(cached_steps_per_s(ref, cache_dir))
+        out["cached_steps_per_s"], out["cached_steps_per_s_cpu"] = map(round, cached_steps_per_s(ref, cache_dir))
+        out["cached_vector_steps_per_s"], out["cached_vector_steps_per_s_cpu"] = map(
+            round, cached_vector_steps_per_s(ref, cache_dir)
+        )
     out["speedup_64"] = round(out["live_fps_64"] / out["naive_fps_64"], 1)
     if args.json:
         print(json.dumps(out))

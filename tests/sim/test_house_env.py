@@ -141,3 +141,27 @@ def test_vector_env(cache_dir, small_house):
     obs, reward, terminated, truncated, _ = envs.step(np.array([0, 1]))
     assert reward.shape == (2,)
     envs.close()
+
+
+def test_batched_vector_env(cache_dir, small_house):
+    envs = gymnasium.make_vec(
+        "ObjSearch/House-v0", num_envs=8, vectorization_mode="vector_entry_point", houses=[small_house], cache_dir=cache_dir, max_steps=30
+    )
+    inner = envs.unwrapped if hasattr(envs, "unwrapped") else envs
+    obs, _ = envs.reset(seed=0)
+    assert envs.observation_space.contains(obs)
+    cache = inner._caches[0]
+    ended = np.zeros(8, bool)
+    for actions in np.random.default_rng(0).integers(6, size=(40, 8)):
+        before = inner.pose.copy()
+        obs, reward, terminated, truncated, info = envs.step(actions)
+        moved = inner._next[0][before, actions]
+        done = terminated | truncated
+        ended |= done
+        # envs that did not end are where the transition table says, and see that pose
+        assert (inner.pose[~done] == moved[~done]).all()
+        assert np.array_equal(obs["rgb"][~done], cache.rgb[inner.pose[~done]])
+        assert (reward == terminated).all() and (info["success"] == terminated).all()
+        assert (inner.steps[done] == 0).all(), "ended episodes restart in the same step"
+    assert ended.any()
+    envs.close()
