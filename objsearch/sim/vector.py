@@ -22,13 +22,14 @@ from objsearch.sim.env import HouseEnv
 
 class HouseVectorEnv(gymnasium.vector.VectorEnv):
     """``num_envs`` cached ``ObjSearch/House-v0`` episodes; keyword arguments as ``HouseEnv``
-    (``mode`` is always ``cached``; the STOP variant is not supported here)."""
+    (``mode`` is always ``cached``; the STOP variant and predicted observations are not
+    supported here)."""
 
     metadata = {"autoreset_mode": AutoresetMode.SAME_STEP}
 
     def __init__(self, num_envs: int, **env_kwargs):
-        if env_kwargs.pop("mode", "cached") != "cached" or env_kwargs.get("stop_action"):
-            raise ValueError("HouseVectorEnv steps cached observations without STOP; use HouseEnv for the rest")
+        if env_kwargs.pop("mode", "cached") != "cached" or env_kwargs.get("stop_action") or env_kwargs.get("observation", "gt") != "gt":
+            raise ValueError("HouseVectorEnv steps cached ground-truth observations without STOP; use HouseEnv for the rest")
         self.env = HouseEnv(mode="cached", **env_kwargs)
         self.num_envs = int(num_envs)
         self.single_observation_space = self.env.observation_space

@@ -1,0 +1,3 @@
+"""Perception: a DeepLabv3+-style network that predicts semantic segmentation and depth from
+RGB, its datasets of rendered frames, training, metrics, and the predictor behind the house
+env's ``observation="predicted"`` (``docs/perception.md``)."""

@@ -1,0 +1,125 @@
+"""``objsearch perception dataset|train|eval``: frames, training and evaluation of the network
+that predicts segmentation and depth from RGB (``docs/perception.md``)."""
+
+from __future__ import annotations
+
+import argparse
+import json
+import math
+import shlex
+import sys
+
+
+def _count(text: str) -> int:
+    try:
+        value = int(text)
+    except ValueError:
+        value = -1
+    if value < 0:
+        raise argparse.ArgumentTypeError(f"expected a non-negative integer, got {text!r}")
+    return value
+
+
+def _key_value(text: str) -> tuple[str, str]:
+    key, sep, value = text.partition("=")
+    if not sep or not key:
+        raise argparse.ArgumentTypeError(f"expected KEY=VALUE, got {text!r}")
+    return key.strip(), value.strip()
+
+
+def add_parser(subparsers) -> None:
+    parser = subparsers.add_parser("perception", help="segmentation + depth network: dataset, train, eval",
+                                   description=__doc__)
+    commands = parser.add_subparsers(dest="perception_command", metavar="ACTION", required=True)
+
+    data = commands.add_parser("dataset", help="render training / validation / test frames of house-gen's houses")
+    data.add_argument("--out", required=True, help="dataset folder (an interrupted build there resumes)")
+    data.add_argument("--seed", type=_count, default=0, help="pose sampling seed (default: 0)")
+    data.add_argument("--poses-per-house", type=_count, default=500, help="frames per training house (default: 500)")
+    data.add_argument("--eval-poses-per-house", type=_count, default=200, help="frames per val / test house (default: 200)")
+    for split, total in (("train", 40), ("val", 10), ("test", 10)):
+        data.add_argument(f"--{split}-houses", type=_count, help=f"use only the first N {split} houses (default: all {total})")
+    data.add_argument("--size", type=_count, help="render width and height in pixels (default: 64, the agent camera's)")
+    data.add_argument("--quiet", action="store_true", help="no progress bar")
+    data.set_defaults(func=run_dataset)
+
+    train = commands.add_parser("train", help="train the network (resumable)")
+    train.add_argument("--data", required=True, help="dataset folder")
+    train.add_argument("--out", required=True, help="run folder; a run there with the same config is resumed")
+    train.add_argument("--steps", type=_count, help="optimizer steps (default: the config's 9000)")
+    train.add_argument("--batch-size", type=_count, help="frames per step (default: 32)")
+    train.add_argument("--seed", type=_count, help="run seed (default: 0)")
+    train.add_argument("--device", help="auto (default: CUDA when present), cpu or cuda")
+    train.add_argument("--threads", type=_count, help="torch CPU threads (default: all cores)")
+    train.add_argument("--set", action="append", type=_key_value, default=[], dest="overrides", metavar="KEY=VALUE",
+                       help="override a TrainConfig field (model.FIELD for widths); repeatable")
+    train.add_argument("--fresh", action="store_true", help="start over even if --out holds a run")
+    train.add_argument("--quiet", action="store_true", help="no progress bar")
+    train.set_defaults(func=run_train)
+
+    ev = commands.add_parser("eval", help="evaluate a checkpoint on held-out houses (default: the test split)")
+    ev.add_argument("--checkpoint", required=True, help="RUN/model.pt written by objsearch perception train")
+    ev.add_argument("--data", required=True, help="dataset folder")
+    ev.add_argument("--split", default="test", help="test (default: unseen houses and object instances), val or train")
+    ev.add_argument("--max-frames", type=_count, help="evaluate only the first N frames")
+    ev.add_argument("--device", default="auto", help="auto (default), cpu or cuda")
+    ev.add_argument("--json", action="store_true", help="end with one line of JSON (miou, depth_absrel, ...)")
+    ev.set_defaults(func=run_eval)
+
+
+def run_dataset(args: argparse.Namespace) -> int:
+    from objsearch.perception.dataset import build_dataset
+    from objsearch.sim.renderer import RenderSettings
+
+    settings = RenderSettings() if args.size is None else RenderSettings(width=args.size, height=args.size)
+    limits = {s: getattr(args, f"{s}_houses") for s in ("train", "val", "test") if getattr(args, f"{s}_houses") is not None}
+    manifest = build_dataset(args.out, settings=settings, seed=args.seed, poses_per_house=args.poses_per_house,
+                             eval_poses_per_house=args.eval_poses_per_house, max_houses=limits, progress=not args.quiet)
+    for split, entry in manifest["splits"].items():
+        print(f"{split}: {entry['frames']} frames from {len(entry['houses'])} houses")
+    print(f"wrote {args.out}/manifest.json")
+    return 0
+
+
+def run_train(args: argparse.Namespace) -> int:
+    from objsearch.perception.config import TrainConfig
+    from objsearch.perception.train import train
+
+    overrides = dict(args.overrides)
+    for name, key in (("steps", "steps"), ("batch_size", "batch_size"), ("seed", "seed"), ("device", "device"),
+                      ("threads", "threads")):
+        if getattr(args, name) is not None:
+            overrides[key] = str(getattr(args, name))
+    config = TrainConfig(data=args.data).with_overrides(overrides)
+    print(f"command: objsearch perception {shlex.join(sys.argv[2:]) if len(sys.argv) > 2 else 'train'}")
+    finished = train(config, args.out, fresh=args.fresh, progress=not args.quiet)
+    print(f"{'finished' if finished else 'interrupted; rerun to resume'}: {args.out}/model.pt")
+    return 0 if finished else 130
+
+
+def run_eval(args: argparse.Namespace) -> int:
+    from objsearch.perception.dataset import load_split, read_manifest
+    from objsearch.perception.inference import Predictor, evaluate
+    from objsearch.perception.metrics import format_table
+
+    manifest = read_manifest(args.data)
+    predictor = Predictor.from_checkpoint(args.checkpoint, device=args.device)
+    if predictor.settings != manifest["settings"]:
+        from objsearch.errors import UserError
+
+        raise UserError(f"{args.checkpoint} was trained on frames rendered with {predictor.settings}, "
+                        f"{args.data} holds {manifest['settings']}")
+    frames = load_split(args.data, args.split, args.max_frames)
+    result = evaluate(predictor, frames, progress=not args.json)
+    print(f"{args.split}: {len(frames)} frames from {len(set(frames.houses.tolist()))} houses, checkpoint {predictor.key}")
+    print(format_table(result))
+    if args.json:
+        from objsearch.house.categories import CATEGORY_NAMES
+
+        summary = {k: (None if isinstance(v, float) and math.isnan(v) else v) for k, v in result.items()
+                   if k not in ("iou", "gt_pixels", "counted")}
+        summary.update(split=args.split, frames=len(frames), checkpoint_key=predictor.key,
+                       counted=[CATEGORY_NAMES[c] for c in result["counted"]],
+                       per_category={CATEGORY_NAMES[c]: round(v, 4) for c, v in result["iou"].items()})
+        print(json.dumps(summary, sort_keys=True))
+    return 0

@@ -1,0 +1,118 @@
+"""The training configuration of the perception network, written as ``config.json`` next to
+every checkpoint so that a run can be rebuilt from the file alone."""
+
+from __future__ import annotations
+
+import dataclasses
+import json
+import os
+from dataclasses import dataclass, field, fields
+from pathlib import Path
+
+from objsearch.errors import UserError
+from objsearch.fileio import write_json
+from objsearch.perception.model import ModelConfig
+
+WEIGHTINGS = ("enet", "none")
+
+
+@dataclass(frozen=True)
+class TrainConfig:
+    data: str = "data/perception"
+    """Dataset folder written by ``objsearch perception dataset`` (its ``train`` and ``val`` splits)."""
+    seed: int = 0
+    """Seeds the weight initialisation, the order of frames in every epoch and the augmentation."""
+    steps: int = 9_000
+    """Optimizer steps (one batch each). The default, 12 epochs of the default 20,000-frame train split, is
+    sized for about two hours on 2 free CPU cores (docs/perception.md)."""
+    batch_size: int = 32
+    """Frames per step."""
+    lr: float = 2e-3
+    """Peak AdamW learning rate (after warm-up), decayed by the poly rule (1 - step / steps) ** lr_power."""
+    lr_power: float = 0.9
+    """Exponent of the poly learning-rate decay (DeepLab's)."""
+    warmup_steps: int = 200
+    """Steps of linear learning-rate warm-up from 0."""
+    weight_decay: float = 1e-4
+    """AdamW weight decay."""
+    depth_weight: float = 1.0
+    """Weight of the depth loss (L1 on log depth over pixels that hit something) beside the cross-entropy."""
+    class_weighting: str = "enet"
+    """Cross-entropy class weights: ``enet`` (1 / ln(1.02 + training pixel frequency), ENet's; rare object
+    categories weigh up to ~50x) or ``none``."""
+    augment: bool = True
+    """Random horizontal flips and colour jitter (brightness, contrast, per-channel gain) of training frames."""
+    max_train_frames: int = 0
+    """Use only the first this many training frames (0: all)."""
+    val_frames: int = 1000
+    """Validation frames evaluated every ``eval_every`` steps and at the end (0: no validation)."""
+    eval_every: int = 2000
+    """Evaluate on the validation frames every this many steps."""
+    log_every: int = 50
+    """Append a row (mean losses of the last rows' steps) to ``log.csv`` every this many steps."""
+    checkpoint_every: int = 500
+    """Write ``model.pt`` and the resumable ``state.pt`` every this many steps."""
+    device: str = "auto"
+    """``auto`` (CUDA when present, else CPU), ``cpu`` or ``cuda``."""
+    threads: int = 0
+    """torch CPU threads (0: torch's default, the number of cores)."""
+    model: ModelConfig = field(default_factory=ModelConfig)
+    """Network widths (``--set model.stem=16``)."""
+
+    def __post_init__(self):
+        if self.class_weighting not in WEIGHTINGS:
+            raise UserError(f"class_weighting must be one of {WEIGHTINGS}, not {self.class_weighting!r}")
+        for name in ("steps", "batch_size", "eval_every", "log_every", "checkpoint_every"):
+            if getattr(self, name) < 1:
+                raise UserError(f"config field {name} must be >= 1, got {getattr(self, name)}")
+        for name in ("warmup_steps", "max_train_frames", "val_frames", "threads"):
+            if getattr(self, name) < 0:
+                raise UserError(f"config field {name} must be >= 0, got {getattr(self, name)}")
+        if isinstance(self.model, dict):
+            object.__setattr__(self, "model", ModelConfig.from_json(self.model))
+
+    def to_json(self) -> dict:
+        return {**dataclasses.asdict(self), "model": self.model.to_json()}
+
+    @classmethod
+    def from_json(cls, data: dict) -> "TrainConfig":
+        known = {f.name for f in fields(cls)}
+        if set(data) - known:
+            raise UserError(f"unknown training config fields {sorted(set(data) - known)}; known: {sorted(known)}")
+        return cls(**data)
+
+    def save(self, path: str | os.PathLike) -> None:
+        write_json(path, self.to_json())
+
+    @classmethod
+    def load(cls, path: str | os.PathLike) -> "TrainConfig":
+        return cls.from_json(json.loads(Path(path).read_text()))
+
+    def with_overrides(self, overrides: dict[str, str]) -> "TrainConfig":
+        """A copy with fields set from ``KEY=VALUE`` strings (``model.KEY`` for network widths)."""
+        top, model = {}, {}
+        for key, text in overrides.items():
+            if key.startswith("model."):
+                model[key[6:]] = _typed(self.model, key[6:], text, "model.")
+            else:
+                top[key] = _typed(self, key, text, "")
+        if model:
+            top["model"] = dataclasses.replace(self.model, **model)
+        return dataclasses.replace(self, **top)
+
+
+def _typed(obj, key: str, text: str, prefix: str):
+    types = {f.name: type(getattr(obj, f.name)) for f in fields(obj)}
+    if key not in types or types[key] in (ModelConfig,):
+        raise UserError(f"unknown config field {prefix}{key!r}; fields: {', '.join(prefix + k for k in sorted(types))}")
+    kind = types[key]
+    try:
+        if kind is bool:
+            if text.lower() not in ("1", "0", "true", "false", "yes", "no"):
+                raise ValueError(text)
+            return text.lower() in ("1", "true", "yes")
+        if kind is tuple:
+            return tuple(int(v) for v in text.split(","))
+        return kind(text)
+    except ValueError:
+        raise UserError(f"config field {prefix}{key} takes a {kind.__name__}, got {text!r}") from None

@@ -1,0 +1,50 @@
+import numpy as np
+import pytest
+
+from objsearch.errors import UserError
+from objsearch.perception.dataset import (
+    load_split, read_manifest, read_shard, sample_pose_ids, split_houses, write_shard,
+)
+from objsearch.perception.model import NUM_CLASSES
+
+
+def test_splits_are_disjoint_and_keep_test_instances_out_of_training():
+    train, val, test = (split_houses(s) for s in ("train", "val", "test"))
+    assert (len(train), len(val), len(test)) == (40, 10, 10)
+    assert not (set(train) & set(val)) and not (set(train) & set(test)) and not (set(val) & set(test))
+    assert {h["split"] for h in train.values()} == {"train"}  # training mesh variants only
+    assert {h["split"] for h in val.values()} == {h["split"] for h in test.values()} == {"test"}
+    with pytest.raises(UserError, match="unknown dataset split"):
+        split_houses("holdout")
+
+
+def test_pose_sampling_is_seeded_per_house():
+    a = sample_pose_ids(1000, 50, seed=0, house_seed=1000)
+    assert np.array_equal(a, sample_pose_ids(1000, 50, seed=0, house_seed=1000))
+    assert not np.array_equal(a, sample_pose_ids(1000, 50, seed=0, house_seed=1001))
+    assert len(np.unique(a)) == 50 and len(sample_pose_ids(10, 50, 0, 1)) == 10
+
+
+def test_shard_round_trip(tmp_path):
+    rng = np.random.default_rng(0)
+    rgb = rng.integers(0, 256, (5, 8, 8, 3), dtype=np.uint8)
+    depth = rng.uniform(0.05, 30.0, (5, 8, 8)).astype(np.float32)
+    semantic = rng.integers(0, NUM_CLASSES, (5, 8, 8), dtype=np.uint8)
+    write_shard(tmp_path / "s.npz", rgb, depth, semantic, [3, 1, 4, 1, 5], {"house": "h"})
+    back = read_shard(tmp_path / "s.npz")
+    assert np.array_equal(back["rgb"], rgb) and np.array_equal(back["semantic"], semantic)
+    assert np.abs(back["depth"] - depth).max() <= 0.0005 + 1e-6  # millimetres
+    assert back["pose_ids"].tolist() == [3, 1, 4, 1, 5] and back["meta"] == {"house": "h"}
+    assert not list(tmp_path.glob(".*.tmp"))
+
+
+def test_built_dataset_matches_its_manifest(tiny_dataset):
+    manifest = read_manifest(tiny_dataset)
+    assert list(manifest["splits"]) == ["train"] and manifest["num_classes"] == NUM_CLASSES
+    frames = load_split(tiny_dataset, "train")
+    assert frames.rgb.shape == (48, 32, 32, 3) and frames.depth.dtype == np.float32
+    assert manifest["splits"]["train"]["frames"] == 48
+    counts = np.bincount(frames.semantic.ravel(), minlength=NUM_CLASSES)
+    assert counts.tolist() == manifest["splits"]["train"]["class_pixels"]
+    with pytest.raises(UserError, match="no 'test' split"):
+        load_split(tiny_dataset, "test")

@@ -1,0 +1,72 @@
+import numpy as np
+import pytest
+import torch
+
+from objsearch.errors import UserError
+from objsearch.house.categories import CATEGORY_IDS, CATEGORY_NAMES, FIRST_OBJECT_ID, STRUCTURE
+from objsearch.perception.inference import Predictor, checkpoint_key, load_checkpoint, save_checkpoint
+from objsearch.perception.model import NUM_CLASSES, ModelConfig, SegDepthNet, depth_from_log
+from objsearch.perception.train import init_weights
+from objsearch.sim.env import NUM_CATEGORY_IDS
+
+from objsearch.perception.model import ModelConfig
+
+TINY_MODEL = ModelConfig(stem=16, mid=32, deep=48, aspp=32, aspp_rates=(2, 4), skip=16, decoder=32)  # trains in seconds
+
+
+def test_one_segmentation_channel_per_category_id():
+    assert NUM_CLASSES == max(CATEGORY_IDS.values()) + 1 == NUM_CATEGORY_IDS
+    assert all(0 <= i < NUM_CLASSES for i in CATEGORY_IDS.values())
+    assert STRUCTURE["background"] == 0 and min(i for n, i in CATEGORY_IDS.items() if n not in STRUCTURE) == FIRST_OBJECT_ID
+    assert SegDepthNet(TINY_MODEL).seg_head.out_channels == 4 * NUM_CLASSES  # before the 2x2 pixel shuffle
+    with pytest.raises(UserError, match="category table"):
+        ModelConfig(num_classes=NUM_CLASSES - 1)
+
+
+@pytest.mark.parametrize("size", [(32, 32), (64, 64), (48, 80)])
+def test_output_shapes(size):
+    model = SegDepthNet(TINY_MODEL).eval()
+    logits, log_depth = model(torch.rand(2, 3, *size))
+    assert logits.shape == (2, NUM_CLASSES, *size) and log_depth.shape == (2, *size)
+    with pytest.raises(ValueError, match="multiple of 8"):
+        model(torch.rand(1, 3, 30, 32))
+
+
+def test_predicted_labels_are_category_ids_and_depth_is_in_range(tmp_path):
+    model = SegDepthNet(TINY_MODEL)
+    init_weights(model, torch.Generator().manual_seed(0))
+    sofa = CATEGORY_IDS["sofa"]
+    with torch.no_grad():  # make channel `sofa` win everywhere: channel index == category id
+        model.seg_head.bias.zero_()
+        model.seg_head.bias[4 * sofa : 4 * sofa + 4] = 100.0  # pixel shuffle: channel c*4+k -> class c
+    settings = {"znear": 0.05, "zfar": 30.0, "width": 32, "height": 32}
+    predictor = Predictor(model, settings, key="k", device="cpu")
+    rgb = np.random.default_rng(0).integers(0, 256, (3, 32, 32, 3), dtype=np.uint8)
+    semantic, depth = predictor.predict(rgb)
+    assert semantic.dtype == np.uint8 and semantic.shape == (3, 32, 32) and (semantic == sofa).all()
+    assert CATEGORY_NAMES[int(semantic[0, 0, 0])] == "sofa"
+    assert depth.dtype == np.float32 and depth.shape == (3, 32, 32) and (depth >= 0.05).all() and (depth <= 30.0).all()
+    assert torch.allclose(depth_from_log(torch.tensor([-10.0, 10.0]), 0.05, 30.0), torch.tensor([0.05, 30.0]))
+
+
+def test_checkpoint_round_trip_and_key(tmp_path):
+    model = SegDepthNet(TINY_MODEL)
+    init_weights(model, torch.Generator().manual_seed(1))
+    save_checkpoint(tmp_path / "model.pt", model, {"width": 32, "height": 32, "znear": 0.05, "zfar": 30.0})
+    predictor = Predictor.from_checkpoint(tmp_path / "model.pt", device="cpu")
+    assert predictor.model.config == TINY_MODEL
+    assert predictor.key == checkpoint_key(load_checkpoint(tmp_path / "model.pt"))
+    with torch.no_grad():
+        model.depth_head.bias += 1.0
+    save_checkpoint(tmp_path / "other.pt", model, {"width": 32, "height": 32, "znear": 0.05, "zfar": 30.0})
+    assert Predictor.from_checkpoint(tmp_path / "other.pt").key != predictor.key  # new weights, new key
+    (tmp_path / "bad.pt").write_bytes(b"not a checkpoint")
+    with pytest.raises(UserError, match="bad.pt"):
+        load_checkpoint(tmp_path / "bad.pt")
+
+
+def test_seeded_initialisation_is_reproducible():
+    a, b = SegDepthNet(TINY_MODEL), SegDepthNet(TINY_MODEL)
+    init_weights(a, torch.Generator().manual_seed(5))
+    init_weights(b, torch.Generator().manual_seed(5))
+    assert all(torch.equal(x, y) for x, y in zip(a.state_dict().values(), b.state_dict().values()))

@@ -1,0 +1,55 @@
+"""The training path learns: a tiny network overfits a few dozen frames of one house."""
+
+import dataclasses
+
+import torch
+
+from objsearch.perception.config import TrainConfig
+from objsearch.perception.dataset import load_split
+from objsearch.perception.inference import Predictor, evaluate
+from objsearch.perception.train import TrainRun
+
+from objsearch.perception.model import ModelConfig
+
+TINY_MODEL = ModelConfig(stem=16, mid=32, deep=48, aspp=32, aspp_rates=(2, 4), skip=16, decoder=32)  # trains in seconds
+
+
+def _config(data, **changes) -> TrainConfig:
+    base = TrainConfig(data=str(data), steps=120, batch_size=16, lr=1e-2, warmup_steps=10, augment=False,
+                       class_weighting="enet", val_frames=0, log_every=40, checkpoint_every=1000, device="cpu",
+                       threads=1, model=TINY_MODEL)
+    return dataclasses.replace(base, **changes)
+
+
+def test_overfits_a_tiny_rendered_set(tiny_dataset, tmp_path):
+    frames = load_split(tiny_dataset, "train", max_frames=16)
+    run = TrainRun(_config(tiny_dataset, max_train_frames=16), tmp_path / "run")
+    before = evaluate(Predictor(run.model, run.settings, "before", "cpu"), frames)
+    assert run.run(progress=False)  # 120 steps of 16 frames at 32x32: ~10 s on one core
+    after = evaluate(Predictor.from_checkpoint(tmp_path / "run" / "model.pt", "cpu"), frames)
+    losses = [row["loss"] for row in run.rows]
+    assert losses[-1] < 0.1 * losses[0]
+    # measured (seed 0): pixel accuracy 0.96, mIoU 0.64 over 15 object categories (some 1-12 pixels
+    # large), 0.79 over the 8 with >= 50 pixels, AbsRel 0.03; before training: mIoU ~0, AbsRel ~0.6
+    big = [c for c in after["counted"] if after["gt_pixels"][c] >= 50]
+    assert after["pixel_accuracy"] > 0.93 and after["miou"] > 0.5, after
+    assert len(big) >= 5 and sum(after["iou"][c] for c in big) / len(big) > 0.65, after
+    assert after["depth_absrel"] < 0.1 < before["depth_absrel"]
+    assert before["miou"] < 0.1
+
+
+def test_resumed_run_equals_uninterrupted_run(tiny_dataset, tmp_path):
+    config = _config(tiny_dataset, steps=4, batch_size=8, augment=True, class_weighting="enet", checkpoint_every=2)
+    straight = TrainRun(config, tmp_path / "a")
+    straight.run(progress=False)
+    first = TrainRun(config, tmp_path / "b")
+    for _ in range(2):
+        first.train_step()
+    first.save()
+    resumed = TrainRun(config, tmp_path / "b")
+    assert resumed.step == 2
+    resumed.run(progress=False)
+    for name, tensor in straight.model.state_dict().items():
+        assert torch.equal(tensor, resumed.model.state_dict()[name]), name
+    assert (tmp_path / "a" / "config.json").exists() and (tmp_path / "a" / "log.csv").exists()
+    assert TrainConfig.load(tmp_path / "a" / "config.json") == config
