@@ -40,3 +40,11 @@ def seed_list(text: str) -> tuple[int, ...]:
     if not seeds:
         raise argparse.ArgumentTypeError("give at least one seed")
     return seeds
+
+
+def key_value(text: str) -> tuple[str, str]:
+    """``KEY=VALUE`` (for ``--set`` overrides of config fields)."""
+    key, sep, value = text.partition("=")
+    if not sep or not key:
+        raise argparse.ArgumentTypeError(f"expected KEY=VALUE, got {text!r}")
+    return key.strip(), value.strip()

@@ -18,15 +18,8 @@ import argparse
 import shlex
 import sys
 
-from objsearch.cliargs import non_negative_int
+from objsearch.cliargs import key_value, non_negative_int
 from objsearch.errors import UserError
-
-
-def _key_value(text: str) -> tuple[str, str]:
-    key, sep, value = text.partition("=")
-    if not sep or not key:
-        raise argparse.ArgumentTypeError(f"expected KEY=VALUE, got {text!r}")
-    return key.strip(), value.strip()
 
 
 def add_parser(subparsers) -> None:
@@ -37,7 +30,7 @@ def add_parser(subparsers) -> None:
     parser.add_argument("--episodes", type=non_negative_int, help="training episodes (default: the agent's, the paper's 100000)")
     parser.add_argument("--seed", type=non_negative_int, default=0, help="run seed (default: 0)")
     parser.add_argument("--out", help="run directory (default: runs/SUITE/AGENT-seedS); an existing run there is resumed")
-    parser.add_argument("--set", action="append", type=_key_value, default=[], dest="overrides", metavar="KEY=VALUE",
+    parser.add_argument("--set", action="append", type=key_value, default=[], dest="overrides", metavar="KEY=VALUE",
                         help="override a field of the agent's training config; repeatable")
     parser.add_argument("--fresh", action="store_true", help="start over even if --out holds a run")
     parser.add_argument("--quiet", action="store_true", help="no progress bar")

@@ -9,22 +9,7 @@ import math
 import shlex
 import sys
 
-
-def _count(text: str) -> int:
-    try:
-        value = int(text)
-    except ValueError:
-        value = -1
-    if value < 0:
-        raise argparse.ArgumentTypeError(f"expected a non-negative integer, got {text!r}")
-    return value
-
-
-def _key_value(text: str) -> tuple[str, str]:
-    key, sep, value = text.partition("=")
-    if not sep or not key:
-        raise argparse.ArgumentTypeError(f"expected KEY=VALUE, got {text!r}")
-    return key.strip(), value.strip()
+from objsearch.cliargs import key_value, non_negative_int
 
 
 def add_parser(subparsers) -> None:
@@ -34,24 +19,24 @@ def add_parser(subparsers) -> None:
 
     data = commands.add_parser("dataset", help="render training / validation / test frames of house-gen's houses")
     data.add_argument("--out", required=True, help="dataset folder (an interrupted build there resumes)")
-    data.add_argument("--seed", type=_count, default=0, help="pose sampling seed (default: 0)")
-    data.add_argument("--poses-per-house", type=_count, default=500, help="frames per training house (default: 500)")
-    data.add_argument("--eval-poses-per-house", type=_count, default=200, help="frames per val / test house (default: 200)")
+    data.add_argument("--seed", type=non_negative_int, default=0, help="pose sampling seed (default: 0)")
+    data.add_argument("--poses-per-house", type=non_negative_int, default=500, help="frames per training house (default: 500)")
+    data.add_argument("--eval-poses-per-house", type=non_negative_int, default=200, help="frames per val / test house (default: 200)")
     for split, total in (("train", 40), ("val", 10), ("test", 10)):
-        data.add_argument(f"--{split}-houses", type=_count, help=f"use only the first N {split} houses (default: all {total})")
-    data.add_argument("--size", type=_count, help="render width and height in pixels (default: 64, the agent camera's)")
+        data.add_argument(f"--{split}-houses", type=non_negative_int, help=f"use only the first N {split} houses (default: all {total})")
+    data.add_argument("--size", type=non_negative_int, help="render width and height in pixels (default: 64, the agent camera's)")
     data.add_argument("--quiet", action="store_true", help="no progress bar")
     data.set_defaults(func=run_dataset)
 
     train = commands.add_parser("train", help="train the network (resumable)")
     train.add_argument("--data", required=True, help="dataset folder")
     train.add_argument("--out", required=True, help="run folder; a run there with the same config is resumed")
-    train.add_argument("--steps", type=_count, help="optimizer steps (default: the config's 9000)")
-    train.add_argument("--batch-size", type=_count, help="frames per step (default: 32)")
-    train.add_argument("--seed", type=_count, help="run seed (default: 0)")
+    train.add_argument("--steps", type=non_negative_int, help="optimizer steps (default: the config's 9000)")
+    train.add_argument("--batch-size", type=non_negative_int, help="frames per step (default: 32)")
+    train.add_argument("--seed", type=non_negative_int, help="run seed (default: 0)")
     train.add_argument("--device", help="auto (default: CUDA when present), cpu or cuda")
-    train.add_argument("--threads", type=_count, help="torch CPU threads (default: all cores)")
-    train.add_argument("--set", action="append", type=_key_value, default=[], dest="overrides", metavar="KEY=VALUE",
+    train.add_argument("--threads", type=non_negative_int, help="torch CPU threads (default: all cores)")
+    train.add_argument("--set", action="append", type=key_value, default=[], dest="overrides", metavar="KEY=VALUE",
                        help="override a TrainConfig field (model.FIELD for widths); repeatable")
     train.add_argument("--fresh", action="store_true", help="start over even if --out holds a run")
     train.add_argument("--quiet", action="store_true", help="no progress bar")
@@ -61,7 +46,7 @@ def add_parser(subparsers) -> None:
     ev.add_argument("--checkpoint", required=True, help="RUN/model.pt written by objsearch perception train")
     ev.add_argument("--data", required=True, help="dataset folder")
     ev.add_argument("--split", default="test", help="test (default: unseen houses and object instances), val or train")
-    ev.add_argument("--max-frames", type=_count, help="evaluate only the first N frames")
+    ev.add_argument("--max-frames", type=non_negative_int, help="evaluate only the first N frames")
     ev.add_argument("--device", default="auto", help="auto (default), cpu or cuda")
     ev.add_argument("--json", action="store_true", help="end with one line of JSON (miou, depth_absrel, ...)")
     ev.set_defaults(func=run_eval)

@@ -22,14 +22,13 @@ from __future__ import annotations
 import hashlib
 import json
 import os
-import shutil
-import tempfile
 from pathlib import Path
 from typing import Protocol
 
 import numpy as np
 from tqdm import tqdm
 
+from objsearch.fileio import atomic_directory
 from objsearch.sim.navgraph import NAVGRAPH_VERSION
 from objsearch.sim.renderer import HouseRenderer, RenderSettings
 from objsearch.sim.world import World
@@ -90,45 +89,51 @@ class HouseCache:
             "settings": settings.to_dict(),
             "num_poses": world.graph.num_poses,
         }
-        try:
-            meta = json.loads((directory / "meta.json").read_text())
-            if meta == expected:
-                return cls(directory, meta)
-        except (OSError, ValueError):
-            pass
-        _build(world, settings, directory, expected, progress)
+        poses = world.graph.world_poses()
+        n, h, w = len(poses), settings.height, settings.width
+
+        def render(tmp: Path) -> None:
+            layers = {"rgb": (np.uint8, (n, h, w, 3)), "depth": (np.float32, (n, h, w)), "semantic": (np.uint8, (n, h, w))}
+            with HouseRenderer(world.model, settings) as renderer:
+                batches = ((start, renderer.render(poses[start : start + BATCH])) for start in range(0, n, BATCH))
+                _fill_arrays(
+                    tmp,
+                    layers,
+                    ((start, {"rgb": f.rgb, "depth": quantize_depth(f.depth), "semantic": f.semantic}) for start, f in batches),
+                    f"cache {world.house_id}",
+                    progress,
+                )
+
+        _ensure_folder(directory, expected, render)
         return cls(directory, expected)
 
 
-def _build(world: World, settings: RenderSettings, directory: Path, meta: dict, progress: bool) -> None:
-    directory.parent.mkdir(parents=True, exist_ok=True)
-    tmp = Path(tempfile.mkdtemp(dir=directory.parent, prefix=f".{directory.name}.", suffix=".tmp"))
+def _ensure_folder(directory: Path, meta: dict, fill) -> None:
+    """Keep ``directory`` if its ``meta.json`` equals ``meta``; otherwise rebuild it: ``fill``
+    writes the arrays into a temp folder that is then renamed into place."""
     try:
-        poses = world.graph.world_poses()
-        n, h, w = len(poses), settings.height, settings.width
-        rgb = np.lib.format.open_memmap(tmp / "rgb.npy", mode="w+", dtype=np.uint8, shape=(n, h, w, 3))
-        depth = np.lib.format.open_memmap(tmp / "depth.npy", mode="w+", dtype=np.float32, shape=(n, h, w))
-        semantic = np.lib.format.open_memmap(tmp / "semantic.npy", mode="w+", dtype=np.uint8, shape=(n, h, w))
-        with HouseRenderer(world.model, settings) as renderer, tqdm(
-            total=n, desc=f"cache {world.house_id}", unit="pose", disable=not progress or None
-        ) as bar:
-            for start in range(0, n, BATCH):
-                frames = renderer.render(poses[start : start + BATCH])
-                stop = start + len(frames.rgb)
-                rgb[start:stop] = frames.rgb
-                depth[start:stop] = quantize_depth(frames.depth)
-                semantic[start:stop] = frames.semantic
-                bar.update(stop - start)
-        for array in (rgb, depth, semantic):
-            array.flush()
-        del rgb, depth, semantic
+        if json.loads((directory / "meta.json").read_text()) == meta:
+            return
+    except (OSError, ValueError):
+        pass
+    with atomic_directory(directory) as tmp:
+        fill(tmp)
         (tmp / "meta.json").write_text(json.dumps(meta, indent=1) + "\n")
-        if directory.exists():
-            shutil.rmtree(directory)
-        os.replace(tmp, directory)
-    except BaseException:
-        shutil.rmtree(tmp, ignore_errors=True)
-        raise
+
+
+def _fill_arrays(folder: Path, layers: dict, batches, desc: str, progress: bool) -> None:
+    """Create ``<name>.npy`` memory maps of ``layers`` ({name: (dtype, shape)}) in ``folder``
+    and fill them from ``batches`` of (first pose, {name: values})."""
+    arrays = {name: np.lib.format.open_memmap(folder / f"{name}.npy", mode="w+", dtype=dtype, shape=shape)
+              for name, (dtype, shape) in layers.items()}
+    total = len(next(iter(arrays.values())))
+    with tqdm(total=total, desc=desc, unit="pose", disable=not progress or None) as bar:
+        for start, values in batches:
+            for name, value in values.items():
+                arrays[name][start : start + len(value)] = value
+            bar.update(len(value))
+    for array in arrays.values():
+        array.flush()
 
 
 class Predictor(Protocol):
@@ -163,30 +168,16 @@ class PredictedCache:
         directory = gt.directory.parent / f"{gt.directory.name}-pred-{predictor.key}"
         expected = {"version": PREDICTED_VERSION, "observations": gt.meta["key"], "predictor": predictor.key,
                     "house_id": world.house_id, "settings": settings.to_dict(), "num_poses": gt.num_poses}
-        try:
-            if json.loads((directory / "meta.json").read_text()) == expected:
-                return cls(directory, expected)
-        except (OSError, ValueError):
-            pass
-        tmp = Path(tempfile.mkdtemp(dir=directory.parent, prefix=f".{directory.name}.", suffix=".tmp"))
-        try:
-            n, h, w = gt.semantic.shape
-            depth = np.lib.format.open_memmap(tmp / "depth.npy", mode="w+", dtype=np.float32, shape=(n, h, w))
-            semantic = np.lib.format.open_memmap(tmp / "semantic.npy", mode="w+", dtype=np.uint8, shape=(n, h, w))
-            with tqdm(total=n, desc=f"predict {world.house_id}", unit="pose", disable=not progress or None) as bar:
+        n, h, w = gt.semantic.shape
+
+        def predict(tmp: Path) -> None:
+            def batches():
                 for start in range(0, n, BATCH):
-                    sem, dep = predictor.predict(gt.rgb[start : start + BATCH])
-                    semantic[start : start + len(sem)] = sem
-                    depth[start : start + len(sem)] = quantize_depth(dep)
-                    bar.update(len(sem))
-            for array in (depth, semantic):
-                array.flush()
-            del depth, semantic
-            (tmp / "meta.json").write_text(json.dumps(expected, indent=1) + "\n")
-            if directory.exists():
-                shutil.rmtree(directory)
-            os.replace(tmp, directory)
-        except BaseException:
-            shutil.rmtree(tmp, ignore_errors=True)
-            raise
+                    semantic, depth = predictor.predict(gt.rgb[start : start + BATCH])
+                    yield start, {"semantic": semantic, "depth": quantize_depth(depth)}
+
+            layers = {"depth": (np.float32, (n, h, w)), "semantic": (np.uint8, (n, h, w))}
+            _fill_arrays(tmp, layers, batches(), f"predict {world.house_id}", progress)
+
+        _ensure_folder(directory, expected, predict)
         return cls(directory, expected)

@@ -165,3 +165,19 @@ def test_batched_vector_env(cache_dir, small_house):
         assert (inner.steps[done] == 0).all(), "ended episodes restart in the same step"
     assert ended.any()
     envs.close()
+
+
+def test_cache_is_keyed_and_rebuilt_when_stale(small_world, tmp_path):
+    from objsearch.sim.cache import HouseCache
+    from objsearch.sim.renderer import RenderSettings
+
+    small = RenderSettings(width=16, height=16)
+    cache = HouseCache.open(small_world, small, tmp_path, progress=False)
+    assert cache.rgb.shape == (small_world.graph.num_poses, 16, 16, 3)
+    first = np.array(cache.semantic)
+    other = HouseCache.open(small_world, RenderSettings(width=16, height=16, fovy=60.0), tmp_path, progress=False)
+    assert other.directory != cache.directory, "other camera settings, another cache"
+    (cache.directory / "meta.json").write_text("{}")  # stale or half-written metadata
+    rebuilt = HouseCache.open(small_world, small, tmp_path, progress=False)
+    assert rebuilt.directory == cache.directory and np.array_equal(rebuilt.semantic, first)
+    assert not [p for p in tmp_path.iterdir() if p.name.endswith(".tmp")], "no temp folder left behind"
