@@ -37,8 +37,6 @@ from __future__ import annotations
 import csv
 import io
 import math
-import signal
-import threading
 import time
 from dataclasses import replace
 from pathlib import Path
@@ -49,6 +47,7 @@ from tqdm import tqdm
 
 from objsearch.errors import UserError
 from objsearch.fileio import atomic_write
+from objsearch.interrupt import stop_on_interrupt
 from objsearch.gridworld.batched import HALF, BatchedGridWorld, GridTables
 from objsearch.gridworld.maps import GridMap
 from objsearch.gridworld.tasks import SEEN_GOALS
@@ -268,31 +267,26 @@ class TrainRun:
         Returns False if interrupted (Ctrl-C: the current step finishes, then a checkpoint
         is written)."""
         c, k = self.config, self.counters
-        stop = threading.Event()
-        restore = None
-        if threading.current_thread() is threading.main_thread():
-            restore = signal.signal(signal.SIGINT, lambda *_: stop.set())
-        bar = tqdm(total=c.episodes, initial=min(k["finished"], c.episodes), unit="ep", desc=f"train {c.method}",
-                   disable=not progress or None, smoothing=0.05)
-        try:
-            t0, wall0 = time.perf_counter(), k["wall_s"]
-            while k["finished"] < c.episodes and not stop.is_set():
-                before = k["finished"]
-                self.step()
-                k["wall_s"] = wall0 + time.perf_counter() - t0
-                bar.update(min(k["finished"], c.episodes) - min(before, c.episodes))
-                if k["finished"] // c.log_every > before // c.log_every:
-                    self.log_row()
-                    r = self.rows[-1]
-                    bar.set_postfix(sr=r["success_rate"], eps=r["epsilon"], loss=r["loss_low"])
-                if k["finished"] // c.checkpoint_every > before // c.checkpoint_every:
-                    self.save()
-            self.save()
-        finally:
-            bar.close()
-            if restore is not None:
-                signal.signal(signal.SIGINT, restore)
-        return not stop.is_set()
+        with stop_on_interrupt() as stop:
+            bar = tqdm(total=c.episodes, initial=min(k["finished"], c.episodes), unit="ep", desc=f"train {c.method}",
+                       disable=not progress or None, smoothing=0.05)
+            try:
+                t0, wall0 = time.perf_counter(), k["wall_s"]
+                while k["finished"] < c.episodes and not stop.is_set():
+                    before = k["finished"]
+                    self.step()
+                    k["wall_s"] = wall0 + time.perf_counter() - t0
+                    bar.update(min(k["finished"], c.episodes) - min(before, c.episodes))
+                    if k["finished"] // c.log_every > before // c.log_every:
+                        self.log_row()
+                        r = self.rows[-1]
+                        bar.set_postfix(sr=r["success_rate"], eps=r["epsilon"], loss=r["loss_low"])
+                    if k["finished"] // c.checkpoint_every > before // c.checkpoint_every:
+                        self.save()
+                self.save()
+            finally:
+                bar.close()
+            return not stop.is_set()
 
 
 def save_policy(policy: GridPolicy, out: Path) -> None:

@@ -19,8 +19,6 @@ writes a checkpoint and exits with 130.
 from __future__ import annotations
 
 import csv
-import signal
-import threading
 import time
 from pathlib import Path
 
@@ -30,6 +28,7 @@ import torch.nn.functional as F
 
 from objsearch.errors import UserError
 from objsearch.fileio import atomic_write
+from objsearch.interrupt import stop_on_interrupt
 from objsearch.perception.config import TrainConfig
 from objsearch.perception.dataset import load_split, read_manifest
 from objsearch.perception.inference import Predictor, evaluate, save_checkpoint
@@ -188,30 +187,25 @@ class TrainRun:
         from tqdm import tqdm
 
         c = self.config
-        stop = threading.Event()
-        restore = None
-        if threading.current_thread() is threading.main_thread():
-            restore = signal.signal(signal.SIGINT, lambda *_: stop.set())
-        bar = tqdm(total=c.steps, initial=self.step, unit="step", desc="train perception", disable=not progress or None)
-        try:
-            t0, wall0 = time.perf_counter(), self.wall_s
-            while self.step < c.steps and not stop.is_set():
-                self._window.append(self.train_step())
-                self.wall_s = wall0 + time.perf_counter() - t0
-                bar.update(1)
-                last = self.step == c.steps
-                if self.step % c.log_every == 0 or last or self.step % c.eval_every == 0:
-                    extra = self.validate() if (self.step % c.eval_every == 0 or last) else {}
-                    row = self.log_row(extra)
-                    bar.set_postfix({k: row[k] for k in ("loss", "val_miou", "val_absrel") if k in row})
-                if self.step % c.checkpoint_every == 0 or last:
-                    self.save()
-            self.save()
-        finally:
-            bar.close()
-            if restore is not None:
-                signal.signal(signal.SIGINT, restore)
-        return not stop.is_set()
+        with stop_on_interrupt() as stop:
+            bar = tqdm(total=c.steps, initial=self.step, unit="step", desc="train perception", disable=not progress or None)
+            try:
+                t0, wall0 = time.perf_counter(), self.wall_s
+                while self.step < c.steps and not stop.is_set():
+                    self._window.append(self.train_step())
+                    self.wall_s = wall0 + time.perf_counter() - t0
+                    bar.update(1)
+                    last = self.step == c.steps
+                    if self.step % c.log_every == 0 or last or self.step % c.eval_every == 0:
+                        extra = self.validate() if (self.step % c.eval_every == 0 or last) else {}
+                        row = self.log_row(extra)
+                        bar.set_postfix({k: row[k] for k in ("loss", "val_miou", "val_absrel") if k in row})
+                    if self.step % c.checkpoint_every == 0 or last:
+                        self.save()
+                self.save()
+            finally:
+                bar.close()
+            return not stop.is_set()
 
 
 def train(config: TrainConfig, out: str | Path, fresh: bool = False, progress: bool = True) -> bool:
