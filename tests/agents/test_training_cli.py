@@ -86,3 +86,28 @@ def test_trained_checkpoint_through_the_harness(runs, tmp_path):
     config = EvalConfig(agent="hrl_grg", seeds=(1,), checkpoint=str(root / "straight"),
                         suite_config={"maps": str(DATA_DIR / "test"), "tasks": str(tasks)})
     assert evaluate(config, progress=False)["splits"]["few"]["episodes"] == 10
+
+
+def test_ctrl_c_checkpoints_and_exits_130(tmp_path):
+    import signal
+    import time
+
+    out = tmp_path / "interrupted"
+    cmd = [sys.executable, "-m", "objsearch.cli", "train", "--agent", "dqn", "--episodes", "100000", "--seed", "3",
+           "--out", str(out), *TINY]
+    proc = subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
+                            env=dict(os.environ, OMP_NUM_THREADS="1"))
+    try:
+        deadline = time.monotonic() + 120
+        while not (out / "state.pt").exists():  # the first checkpoint: training is under way
+            assert proc.poll() is None and time.monotonic() < deadline, proc.stderr.read() if proc.poll() is not None else "timeout"
+            time.sleep(0.2)
+        proc.send_signal(signal.SIGINT)
+        _, stderr = proc.communicate(timeout=120)
+    finally:
+        proc.kill()
+    assert proc.returncode == 130, stderr
+    assert "Traceback" not in stderr
+    rows = list(csv.DictReader(open(out / "log.csv")))
+    state = torch.load(out / "state.pt", weights_only=False)
+    assert rows and state, "the interrupted run left a resumable checkpoint"
