@@ -9,6 +9,7 @@ from objsearch_agents.gridworld_config import GridAgentConfig
 
 class DQNAgent(GridAgent):
     config = replace(GridAgentConfig(), method="dqn")
+    checkpoint_name = "dqn"
 
 
 class DQNGreedyAgent(DQNAgent):

@@ -27,6 +27,9 @@ from objsearch_agents.gridworld_config import GridAgentConfig
 from objsearch_agents.gridworld_policy import GridPolicy
 
 TRAIN_SUITES = ("gridworld",)
+# Shipped checkpoints, one folder per agent (policy.pt, grg.npz, config.json, log.csv and
+# README.md with the command that trained it); an agent loads its own by default.
+CHECKPOINTS = Path(__file__).parent / "checkpoints" / "gridworld"
 
 
 class GridAgent:
@@ -34,11 +37,24 @@ class GridAgent:
 
     config = GridAgentConfig()
     train_suites = TRAIN_SUITES
+    checkpoint_name: str | None = None
+    """Folder of the shipped checkpoint under ``CHECKPOINTS`` (None: none)."""
 
     def __init__(self, epsilon: float | None = None):
         self._epsilon_override = epsilon
         self._build(self.config)
         self.loaded_from: str | None = None
+        default = self.default_checkpoint()
+        if default is not None:
+            self.load(default)
+
+    @classmethod
+    def default_checkpoint(cls) -> Path | None:
+        """The shipped checkpoint this agent loads when given none, if there is one."""
+        if cls.checkpoint_name is None:
+            return None
+        path = CHECKPOINTS / cls.checkpoint_name / "policy.pt"
+        return path if path.exists() else None
 
     def _build(self, config: GridAgentConfig, num_goals: int = 16) -> None:
         self.policy = GridPolicy(config, num_goals=num_goals)

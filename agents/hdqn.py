@@ -10,6 +10,7 @@ from objsearch_agents.gridworld_config import GridAgentConfig
 
 class HDQNAgent(GridAgent):
     config = replace(GridAgentConfig(), method="hdqn")
+    checkpoint_name = "hdqn"
 
 
 class HDQNGreedyAgent(HDQNAgent):

@@ -20,18 +20,22 @@ _BASE = replace(GridAgentConfig(), method="hrl_grg")
 
 class HRLGRGAgent(GridAgent):
     config = _BASE
+    checkpoint_name = "hrl_grg"
 
 
 class HRLGRGNoRelationAgent(GridAgent):
     config = replace(_BASE, relation=False)
+    checkpoint_name = "hrl_grg_no_relation"
 
 
 class HRLGRGNoTerminationAgent(GridAgent):
     config = replace(_BASE, termination=False)
+    checkpoint_name = "hrl_grg_no_termination"
 
 
 class HRLGRGNoHighLevelAgent(GridAgent):
     config = replace(_BASE, high_level=False)
+    checkpoint_name = "hrl_grg_no_high_level"
 
 
 class HRLGRGGreedyAgent(HRLGRGAgent):
