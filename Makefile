@@ -34,12 +34,17 @@ bench: $(STAMP)
 # the leaderboard (house suites render their observation caches first: minutes).
 LEADERBOARD_AGENTS ?= random oracle
 LEADERBOARD_SUITES ?= gridworld house-single house-multi house-gen
+LEADERBOARD_GRID_AGENTS ?= dqn hrl_grg   # learned grid-world agents with shipped checkpoints
 leaderboard: $(STAMP)
 	mkdir -p build
 	for suite in $(LEADERBOARD_SUITES); do for agent in $(LEADERBOARD_AGENTS); do \
 	  $(BIN)/objsearch-eval --agent $$agent --suite $$suite --quiet --out build/$$suite-$$agent.json && \
 	  $(BIN)/objsearch leaderboard add build/$$suite-$$agent.json --replace || exit 1; \
 	done; done
+	for agent in $(LEADERBOARD_GRID_AGENTS); do \
+	  $(BIN)/objsearch-eval --agent $$agent --suite gridworld --workers 2 --quiet --out build/gridworld-$$agent.json && \
+	  $(BIN)/objsearch leaderboard add build/gridworld-$$agent.json --replace || exit 1; \
+	done
 
 clean:
 	rm -rf $(VENV) build *.egg-info

@@ -33,3 +33,20 @@ def test_plot_writes_a_png(tmp_path, capsys):
     assert image.shape == (640, 640, 3) and (image < 250).any()
     assert "chain recovery 100%" in capsys.readouterr().out
     assert main([str(tmp_path / "missing"), "--out", str(tmp_path / "x.png")]) == 2
+
+
+def test_shipped_hrl_grg_graph_recovers_the_goal_chains():
+    """The learned graph of the shipped checkpoint links most goals to a chain neighbour
+    (the structure the map generator plants, which the paper's Figure 4 shows)."""
+    from objsearch.eval.registry import make_agent
+
+    agent = make_agent("hrl_grg")
+    assert agent.loaded_from and agent.loaded_from.endswith("checkpoints/gridworld/hrl_grg/policy.pt")
+    assert chain_recovery(agent.policy.grg.edge_weights()) >= 0.75
+
+
+def test_agents_without_a_shipped_checkpoint_start_untrained():
+    from objsearch.eval.registry import make_agent
+
+    assert make_agent("hdqn").loaded_from is None
+    assert make_agent("dqn").loaded_from.endswith("checkpoints/gridworld/dqn/policy.pt")
