@@ -23,6 +23,7 @@ install: $(STAMP)
 demo: $(STAMP)
 	$(BIN)/objsearch-eval
 	$(BIN)/objsearch-eval --agent oracle
+	$(BIN)/objsearch-eval --agent hrl_grg --split unseen-goals --seeds 1 --workers 2
 
 test: $(STAMP)
 	$(BIN)/python -m pytest -q
