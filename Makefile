@@ -35,7 +35,7 @@ bench: $(STAMP)
 # the leaderboard (house suites render their observation caches first: minutes).
 LEADERBOARD_AGENTS ?= random oracle
 LEADERBOARD_SUITES ?= gridworld house-single house-multi house-gen
-LEADERBOARD_GRID_AGENTS ?= dqn hrl_grg   # learned grid-world agents with shipped checkpoints
+LEADERBOARD_GRID_AGENTS ?= dqn hrl_grg hrl_grg_no_high_level   # learned agents with shipped checkpoints
 leaderboard: $(STAMP)
 	mkdir -p build
 	for suite in $(LEADERBOARD_SUITES); do for agent in $(LEADERBOARD_AGENTS); do \
