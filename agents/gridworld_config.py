@@ -11,6 +11,7 @@ import os
 from dataclasses import dataclass, fields
 from pathlib import Path
 
+from objsearch.configs import require_at_least, typed_field
 from objsearch.errors import UserError
 from objsearch.fileio import write_json
 
@@ -88,10 +89,9 @@ class GridAgentConfig:
             raise UserError(f"method must be one of {METHODS}, not {self.method!r}")
         if self.starts not in STARTS:
             raise UserError(f"starts must be one of {STARTS}, not {self.starts!r}")
-        for name in ("num_envs", "max_steps", "option_steps", "batch_size", "replay_size", "update_every",
-                     "target_update", "eps_anneal_episodes", "curriculum_episodes", "checkpoint_every", "log_every"):
-            if getattr(self, name) < 1:
-                raise UserError(f"config field {name} must be >= 1, got {getattr(self, name)}")
+        require_at_least(self, ("num_envs", "max_steps", "option_steps", "batch_size", "replay_size", "update_every",
+                                "target_update", "eps_anneal_episodes", "curriculum_episodes", "checkpoint_every",
+                                "log_every"), 1)
 
     @property
     def hierarchical(self) -> bool:
@@ -114,19 +114,4 @@ class GridAgentConfig:
 
     def with_overrides(self, overrides: dict[str, str]) -> "GridAgentConfig":
         """A copy with fields set from ``KEY=VALUE`` strings (``--set``), typed like the defaults."""
-        types = {f.name: type(getattr(self, f.name)) for f in fields(self)}
-        changes = {}
-        for key, text in overrides.items():
-            if key not in types:
-                raise UserError(f"unknown config field {key!r}; fields: {', '.join(sorted(types))}")
-            kind = types[key]
-            try:
-                if kind is bool:
-                    if text.lower() not in ("1", "0", "true", "false", "yes", "no"):
-                        raise ValueError(text)
-                    changes[key] = text.lower() in ("1", "true", "yes")
-                else:
-                    changes[key] = kind(text)
-            except ValueError:
-                raise UserError(f"config field {key} takes a {kind.__name__}, got {text!r}") from None
-        return dataclasses.replace(self, **changes)
+        return dataclasses.replace(self, **{key: typed_field(self, key, text) for key, text in overrides.items()})

@@ -9,6 +9,7 @@ import os
 from dataclasses import dataclass, field, fields
 from pathlib import Path
 
+from objsearch.configs import require_at_least, typed_field
 from objsearch.errors import UserError
 from objsearch.fileio import write_json
 from objsearch.perception.model import ModelConfig
@@ -62,12 +63,8 @@ class TrainConfig:
     def __post_init__(self):
         if self.class_weighting not in WEIGHTINGS:
             raise UserError(f"class_weighting must be one of {WEIGHTINGS}, not {self.class_weighting!r}")
-        for name in ("steps", "batch_size", "eval_every", "log_every", "checkpoint_every"):
-            if getattr(self, name) < 1:
-                raise UserError(f"config field {name} must be >= 1, got {getattr(self, name)}")
-        for name in ("warmup_steps", "max_train_frames", "val_frames", "threads"):
-            if getattr(self, name) < 0:
-                raise UserError(f"config field {name} must be >= 0, got {getattr(self, name)}")
+        require_at_least(self, ("steps", "batch_size", "eval_every", "log_every", "checkpoint_every"), 1)
+        require_at_least(self, ("warmup_steps", "max_train_frames", "val_frames", "threads"), 0)
         if isinstance(self.model, dict):
             object.__setattr__(self, "model", ModelConfig.from_json(self.model))
 
@@ -93,26 +90,10 @@ class TrainConfig:
         top, model = {}, {}
         for key, text in overrides.items():
             if key.startswith("model."):
-                model[key[6:]] = _typed(self.model, key[6:], text, "model.")
+                model[key[6:]] = typed_field(self.model, key[6:], text, "model.")
             else:
-                top[key] = _typed(self, key, text, "")
+                top[key] = typed_field(self, key, text)
         if model:
             top["model"] = dataclasses.replace(self.model, **model)
         return dataclasses.replace(self, **top)
 
-
-def _typed(obj, key: str, text: str, prefix: str):
-    types = {f.name: type(getattr(obj, f.name)) for f in fields(obj)}
-    if key not in types or types[key] in (ModelConfig,):
-        raise UserError(f"unknown config field {prefix}{key!r}; fields: {', '.join(prefix + k for k in sorted(types))}")
-    kind = types[key]
-    try:
-        if kind is bool:
-            if text.lower() not in ("1", "0", "true", "false", "yes", "no"):
-                raise ValueError(text)
-            return text.lower() in ("1", "true", "yes")
-        if kind is tuple:
-            return tuple(int(v) for v in text.split(","))
-        return kind(text)
-    except ValueError:
-        raise UserError(f"config field {prefix}{key} takes a {kind.__name__}, got {text!r}") from None
