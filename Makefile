@@ -35,7 +35,10 @@ bench: $(STAMP)
 # the leaderboard (house suites render their observation caches first: minutes).
 LEADERBOARD_AGENTS ?= random oracle
 LEADERBOARD_SUITES ?= gridworld house-single house-multi house-gen
-LEADERBOARD_GRID_AGENTS ?= dqn hrl_grg hrl_grg_no_high_level   # learned agents with shipped checkpoints
+LEADERBOARD_GRID_AGENTS ?= dqn hdqn hrl_grg hrl_grg_no_relation hrl_grg_no_termination hrl_grg_no_high_level   # shipped checkpoints
+# the same checkpoints evaluated greedily (epsilon 0): entry=agent
+LEADERBOARD_GREEDY ?= dqn_greedy=objsearch_agents.dqn:DQNGreedyAgent hdqn_greedy=objsearch_agents.hdqn:HDQNGreedyAgent \
+	hrl_grg_greedy=objsearch_agents.hrl_grg:HRLGRGGreedyAgent
 leaderboard: $(STAMP)
 	mkdir -p build
 	for suite in $(LEADERBOARD_SUITES); do for agent in $(LEADERBOARD_AGENTS); do \
@@ -45,6 +48,10 @@ leaderboard: $(STAMP)
 	for agent in $(LEADERBOARD_GRID_AGENTS); do \
 	  $(BIN)/objsearch-eval --agent $$agent --suite gridworld --workers 2 --quiet --out build/gridworld-$$agent.json && \
 	  $(BIN)/objsearch leaderboard add build/gridworld-$$agent.json --replace || exit 1; \
+	done
+	for pair in $(LEADERBOARD_GREEDY); do name=$${pair%%=*}; \
+	  $(BIN)/objsearch-eval --agent $${pair#*=} --suite gridworld --workers 2 --quiet --out build/gridworld-$$name.json && \
+	  $(BIN)/objsearch leaderboard add build/gridworld-$$name.json --name $$name --replace || exit 1; \
 	done
 
 clean:

@@ -34,6 +34,11 @@ def configure(parser: argparse.ArgumentParser) -> argparse.ArgumentParser:
     )
     parser.add_argument("--cache-dir", help="house suites: observation cache folder (default: $OBJSEARCH_CACHE or ~/.cache/objsearch)")
     parser.add_argument(
+        "--observation", choices=("gt", "predicted"),
+        help="house suites: ground-truth segmentation and depth (default) or the perception network's predictions",
+    )
+    parser.add_argument("--perception", metavar="CHECKPOINT", help="house suites, --observation predicted: the network (default: the shipped one)")
+    parser.add_argument(
         "--step-time-limit", type=seconds, default=10.0, metavar="SECONDS",
         help="an agent call that takes longer fails its episode (default: 10; 0: no limit)",
     )
@@ -70,10 +75,12 @@ def run(args: argparse.Namespace) -> int:
         if args.suite != "gridworld":
             raise UserError("--maps/--tasks apply to the gridworld suite only")
         suite_config.update(maps=args.maps, tasks=args.tasks)
-    if args.render or args.cache_dir:
+    if args.render or args.cache_dir or args.observation or args.perception:
         if not args.suite.startswith("house"):
-            raise UserError("--render/--cache-dir apply to the house suites only")
+            raise UserError("--render/--cache-dir/--observation/--perception apply to the house suites only")
         suite_config.update(mode=args.render or "cached", cache_dir=args.cache_dir)
+        if args.observation or args.perception:
+            suite_config.update(observation=args.observation or "gt", perception=args.perception)
     if args.max_steps:
         suite_config["max_steps"] = args.max_steps
     config = EvalConfig(

@@ -93,4 +93,7 @@ def format_table(results: dict) -> str:
         f"suite {results['suite']} ({results['episode_set_version']}), "
         f"seeds {','.join(map(str, results['seeds']))}; episodes: {episodes}"
     )
+    perception = results["config"].get("suite_config", {}).get("perception_key")
+    if perception:
+        footer += f"; predicted observations (perception network {perception})"
     return "\n".join([rule, *lines[:2], rule, *lines[2:], rule, footer])

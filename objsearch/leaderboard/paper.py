@@ -20,6 +20,26 @@ _GRIDWORLD = {
 }
 
 
+# Our grid-world entries in the paper's Tables 1 (methods) and 2 (ablations), by submission name.
+PAPER_NAMES = {
+    "random": "Random", "oracle": "Oracle", "dqn": "DQN", "hdqn": "h-DQN", "hrl_grg": "HRL-GRG",
+    "hrl_grg_no_relation": "HRL-GRG -relation", "hrl_grg_no_termination": "HRL-GRG -termination",
+    "hrl_grg_no_high_level": "HRL-GRG -high-level",
+}
+GRIDWORLD_TABLES = {
+    "Table 1: methods": ("random", "oracle", "dqn", "hdqn", "hrl_grg"),
+    "Table 2: ablations of HRL-GRG": ("hrl_grg", "hrl_grg_no_relation", "hrl_grg_no_termination", "hrl_grg_no_high_level"),
+}
+GREEDY_SUFFIX = "_greedy"
+"""A submission ``<name>_greedy`` is ``<name>`` evaluated with epsilon 0 (shown under it)."""
+
+
+def paper_gridworld(name: str) -> dict[str, tuple] | None:
+    """{split: (SR, AS, MS, SPL)} the paper reports for an entry of ``PAPER_NAMES``."""
+    values = _GRIDWORLD.get(PAPER_NAMES.get(name, ""))
+    return None if values is None else dict(zip(GRIDWORLD_SPLITS, values))
+
+
 _HOUSE3D = {
     # method: (SR, SPL) for single env seen goals, unseen goals; multiple envs seen, unseen
     "Random": ((0.20, 0.05), (0.23, 0.04), (0.39, 0.03), (0.60, 0.05)),

@@ -43,7 +43,7 @@ def add_parser(subparsers) -> None:
     train.set_defaults(func=run_train)
 
     ev = commands.add_parser("eval", help="evaluate a checkpoint on held-out houses (default: the test split)")
-    ev.add_argument("--checkpoint", required=True, help="RUN/model.pt written by objsearch perception train")
+    ev.add_argument("--checkpoint", help="RUN/model.pt written by objsearch perception train (default: the shipped one)")
     ev.add_argument("--data", required=True, help="dataset folder")
     ev.add_argument("--split", default="test", help="test (default: unseen houses and object instances), val or train")
     ev.add_argument("--max-frames", type=non_negative_int, help="evaluate only the first N frames")
@@ -92,7 +92,7 @@ def run_eval(args: argparse.Namespace) -> int:
     if predictor.settings != manifest["settings"]:
         from objsearch.errors import UserError
 
-        raise UserError(f"{args.checkpoint} was trained on frames rendered with {predictor.settings}, "
+        raise UserError(f"{args.checkpoint or 'the shipped checkpoint'} was trained on frames rendered with {predictor.settings}, "
                         f"{args.data} holds {manifest['settings']}")
     frames = load_split(args.data, args.split, args.max_frames)
     result = evaluate(predictor, frames, progress=not args.json)

@@ -24,6 +24,17 @@ from objsearch.perception.metrics import Evaluation
 from objsearch.perception.model import MODEL_VERSION, ModelConfig, SegDepthNet, depth_from_log, pick_device, rgb_to_tensor
 
 BATCH = 64
+SHIPPED_CHECKPOINT = Path(__file__).with_name("checkpoint") / "model.pt"
+"""The network shipped with the package (``objsearch/perception/checkpoint/README.md`` says how it was made)."""
+
+
+def resolve_checkpoint(path: str | Path | None = None) -> Path:
+    """``path``, or the shipped checkpoint when it is None."""
+    if path is not None:
+        return Path(path)
+    if not SHIPPED_CHECKPOINT.is_file():
+        raise UserError(f"no shipped perception checkpoint at {SHIPPED_CHECKPOINT}; pass one (objsearch perception train writes RUN/model.pt)")
+    return SHIPPED_CHECKPOINT
 
 
 def save_checkpoint(path: str | Path, model: SegDepthNet, settings: dict) -> None:
@@ -74,8 +85,9 @@ class Predictor:
         self.settings, self.key = dict(settings), key
 
     @classmethod
-    def from_checkpoint(cls, path: str | Path, device="auto") -> "Predictor":
-        state = load_checkpoint(path)
+    def from_checkpoint(cls, path: str | Path | None = None, device="auto") -> "Predictor":
+        """The network of ``path`` (default: the shipped checkpoint)."""
+        state = load_checkpoint(resolve_checkpoint(path))
         model = SegDepthNet(ModelConfig.from_json(state["model_config"]))
         model.load_state_dict(state["state_dict"])
         return cls(model, state["settings"], checkpoint_key(state), device)

@@ -135,7 +135,7 @@ class HouseEnv(gymnasium.Env):
         self._sources: dict[str, Any] = {}  # house id -> HouseCache or HouseRenderer
         self._goal_cache: dict[str, HouseCache] = {}
         self._predicted: dict[str, PredictedCache] = {}  # house id -> predictions (cached + predicted)
-        self._predicted_now: PredictedCache | None = None
+        self._labels_now = None  # cached mode: the current house's semantic and depth (see _labels)
         self._goals: dict[tuple, np.ndarray] = {}  # (house, target) -> goal pose ids
         self._steps_to: dict[tuple, np.ndarray] = {}  # (house, goal ids) -> steps from every pose
         self._world: World | None = None
@@ -168,13 +168,18 @@ class HouseEnv(gymnasium.Env):
                 self._sources[world.house_id] = HouseRenderer(world.model, self.settings)
         return self._sources[world.house_id]
 
+    def _labels(self, world: World):
+        """Where cached ``semantic`` and ``depth`` come from: the house's cache, or (predicted
+        mode) the network's predictions of its RGB."""
+        if self.observation != "predicted":
+            return self._source(world)
+        if world.house_id not in self._predicted:
+            self._predicted[world.house_id] = PredictedCache.open(world, self.settings, self.predictor, self.cache_dir)
+        return self._predicted[world.house_id]
+
     def _attach(self, world: World) -> None:
         self._source_now = self._source(world)
-        self._predicted_now = None
-        if self.observation == "predicted" and self.mode == "cached":
-            if world.house_id not in self._predicted:
-                self._predicted[world.house_id] = PredictedCache.open(world, self.settings, self.predictor, self.cache_dir)
-            self._predicted_now = self._predicted[world.house_id]
+        self._labels_now = self._labels(world) if self.mode == "cached" else None
 
     def goal_pose_ids(self, world: World, target: str) -> np.ndarray:
         """Goal poses of ``target`` by the goal rule (renders the goal camera's cache)."""
@@ -272,7 +277,7 @@ class HouseEnv(gymnasium.Env):
     def __getstate__(self):
         state = dict(self.__dict__)
         state["_sources"], state["_goal_cache"], state["_source_now"] = {}, {}, None
-        state["_predicted"], state["_predicted_now"] = {}, None
+        state["_predicted"], state["_labels_now"] = {}, None
         return state
 
     def __setstate__(self, state):
@@ -289,7 +294,7 @@ class HouseEnv(gymnasium.Env):
         source = self._source_now
         if self.mode == "cached":
             p = self._pose
-            labels = self._predicted_now if self._predicted_now is not None else source
+            labels = self._labels_now
             # copies: the caller owns what it is given (Gymnasium's contract)
             return {"rgb": source.rgb[p].copy(), "depth": labels.depth[p].copy(), "semantic": labels.semantic[p].copy(),
                     "target": self._target_id}

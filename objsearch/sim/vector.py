@@ -22,14 +22,14 @@ from objsearch.sim.env import HouseEnv
 
 class HouseVectorEnv(gymnasium.vector.VectorEnv):
     """``num_envs`` cached ``ObjSearch/House-v0`` episodes; keyword arguments as ``HouseEnv``
-    (``mode`` is always ``cached``; the STOP variant and predicted observations are not
-    supported here)."""
+    (``mode`` is always ``cached``, so ``observation="predicted"`` reads the predicted
+    cache; the STOP variant is not supported here)."""
 
     metadata = {"autoreset_mode": AutoresetMode.SAME_STEP}
 
     def __init__(self, num_envs: int, **env_kwargs):
-        if env_kwargs.pop("mode", "cached") != "cached" or env_kwargs.get("stop_action") or env_kwargs.get("observation", "gt") != "gt":
-            raise ValueError("HouseVectorEnv steps cached ground-truth observations without STOP; use HouseEnv for the rest")
+        if env_kwargs.pop("mode", "cached") != "cached" or env_kwargs.get("stop_action"):
+            raise ValueError("HouseVectorEnv steps cached observations without STOP; use HouseEnv for live rendering or STOP")
         self.env = HouseEnv(mode="cached", **env_kwargs)
         self.num_envs = int(num_envs)
         self.single_observation_space = self.env.observation_space
@@ -45,7 +45,8 @@ class HouseVectorEnv(gymnasium.vector.VectorEnv):
         self.target = np.zeros(n, dtype=np.int64)
         self._goal_rows = np.zeros(n, dtype=np.int64)  # row of self._at_goal for each env
         self._houses: list[str] = []
-        self._caches: list = []
+        self._caches: list = []  # per house: rgb source
+        self._labels: list = []  # per house: semantic and depth source (ground truth or predicted)
         self._next: list[np.ndarray] = []
         self._at_goal: list[np.ndarray] = []  # per (house, target): bool over that house's poses
         self._goal_keys: dict[tuple[str, str], int] = {}
@@ -56,6 +57,7 @@ class HouseVectorEnv(gymnasium.vector.VectorEnv):
             world = self.env.world(house_id)
             self._houses.append(house_id)
             self._caches.append(self.env._source(world))
+            self._labels.append(self.env._labels(world))
             self._next.append(world.graph.next_pose)
         return self._houses.index(house_id)
 
@@ -82,8 +84,8 @@ class HouseVectorEnv(gymnasium.vector.VectorEnv):
         }
         for h in np.unique(self.house):
             envs = np.flatnonzero(self.house == h)
-            poses, cache = self.pose[envs], self._caches[h]
-            obs["rgb"][envs], obs["depth"][envs], obs["semantic"][envs] = cache.rgb[poses], cache.depth[poses], cache.semantic[poses]
+            poses, labels = self.pose[envs], self._labels[h]
+            obs["rgb"][envs], obs["depth"][envs], obs["semantic"][envs] = self._caches[h].rgb[poses], labels.depth[poses], labels.semantic[poses]
         return obs
 
     def reset(self, *, seed: int | None = None, options: dict | None = None):

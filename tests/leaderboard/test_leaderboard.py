@@ -115,9 +115,13 @@ def test_pages_come_from_the_stored_submissions_alone(tmp_path, oracle_results):
     store.mkdir(parents=True)
     (store / "oracle.json").write_text(json.dumps(oracle_results))
     render(tmp_path)
-    first = {p: (tmp_path / p).read_text() for p in ("README.md", "index.html")}
+    pages = ("README.md", "index.html", "paper_tables.md")
+    first = {p: (tmp_path / p).read_text() for p in pages}
     render(tmp_path)
-    assert first == {p: (tmp_path / p).read_text() for p in ("README.md", "index.html")}
+    assert first == {p: (tmp_path / p).read_text() for p in pages}
+    tables = first["paper_tables.md"]  # Tables 1 and 2: ours in bold, the paper's in brackets
+    assert "| Oracle | not run (1.00) | not run (1.00) | not run (11.81 / 11.81) | **1.00** (1.00) | **1.00** (1.00) |" in tables
+    assert "| HRL-GRG | not run (0.57) | not run (0.33) |" in tables and tables.count("| HRL-GRG |") == 2
 
 
 def test_the_repository_leaderboard_is_valid_and_up_to_date(tmp_path):
@@ -128,7 +132,7 @@ def test_the_repository_leaderboard_is_valid_and_up_to_date(tmp_path):
         assert check_submission(results) == [], name
     shutil.copytree(board / "submissions", tmp_path / "submissions")
     render(tmp_path)
-    for page in ("README.md", "index.html"):
+    for page in ("README.md", "index.html", "paper_tables.md"):
         assert (tmp_path / page).read_text() == (board / page).read_text(), f"run: objsearch leaderboard render ({page})"
 
 

@@ -82,3 +82,18 @@ def test_gt_stays_the_default_and_bad_arguments_are_refused(predictor):
         HouseEnv([HOUSE], observation="learned", predictor=predictor)
     with pytest.raises(ValueError, match="trained on frames"):  # the default camera is 64x64, the network's 32x32
         HouseEnv([HOUSE], observation="predicted", predictor=predictor)
+
+
+def test_vector_env_reads_the_predicted_cache(predictor, cache_dir):
+    from objsearch.sim.vector import HouseVectorEnv
+
+    envs = HouseVectorEnv(3, houses=[HOUSE], settings=CAMERA, cache_dir=cache_dir, observation="predicted", predictor=predictor)
+    world = envs.env.world(World.load(HOUSE).house_id)
+    predicted = PredictedCache.open(world, CAMERA, predictor, cache_dir)
+    gt = HouseCache.open(world, CAMERA, cache_dir)
+    obs, _ = envs.reset(seed=0)
+    for _ in range(3):
+        assert np.array_equal(obs["semantic"], predicted.semantic[envs.pose])
+        assert np.array_equal(obs["depth"], predicted.depth[envs.pose]) and np.array_equal(obs["rgb"], gt.rgb[envs.pose])
+        obs, *_ = envs.step(np.array([0, 1, 2]))
+    envs.close()

@@ -85,3 +85,42 @@ def test_house_single_file_is_reproduced_by_its_builder(cache_dir):
     from objsearch.sim.suites import build_suite
 
     assert build_suite("house-single", cache_dir) == load_suite_file("house-single")
+
+
+def test_predicted_observations_through_the_harness(cache_dir, tmp_path):
+    """--observation predicted: the agent sees the network's output, success stays ground truth,
+    and the results record which network it was."""
+    import torch
+
+    from objsearch.perception.inference import Predictor, save_checkpoint
+    from objsearch.perception.model import ModelConfig, SegDepthNet
+    from objsearch.perception.train import init_weights
+    from objsearch.sim.cache import PredictedCache
+    from objsearch.errors import UserError
+
+    model = SegDepthNet(ModelConfig(stem=8, mid=8, deep=8, aspp=8, aspp_rates=(2,), skip=8, decoder=8))
+    init_weights(model, torch.Generator().manual_seed(0))
+    path = tmp_path / "model.pt"
+    save_checkpoint(path, model, GOAL_CAMERA.to_dict())
+    key = Predictor.from_checkpoint(path).key
+    suite_config = {"mode": "cached", "cache_dir": cache_dir, "observation": "predicted", "perception": str(path)}
+    config = EvalConfig(agent="random", suite="house-single", splits=("seen-goals",), seeds=(1,), suite_config=suite_config)
+    results = evaluate(config, progress=False)
+    assert results["config"]["suite_config"]["perception_key"] == key
+    gt = evaluate(EvalConfig(agent="random", suite="house-single", splits=("seen-goals",), seeds=(1,),
+                             suite_config={"mode": "cached", "cache_dir": cache_dir}), progress=False)
+    # the random agent ignores what it sees, so the same episodes succeed: success is judged on the ground truth
+    assert [e["success"] for e in results["episodes"]] == [e["success"] for e in gt["episodes"]]
+
+    suite = make_suite("house-single", **results["config"]["suite_config"])  # what a resumed run or a validator rebuilds
+    env = suite.make_env()
+    episode = suite.episodes("seen-goals")[0]
+    obs, info = env.reset(options={"task": episode.task})
+    world = suite.worlds[episode.task.house]
+    predicted = PredictedCache.open(world, GOAL_CAMERA, suite.predictor, cache_dir, progress=False)
+    pose = world.graph.pose_id(*info["pose"])
+    assert np.array_equal(obs["semantic"], predicted.semantic[pose]) and np.array_equal(obs["depth"], predicted.depth[pose])
+    with pytest.raises(UserError, match="has key"):
+        make_suite("house-single", **{**results["config"]["suite_config"], "perception_key": "0" * 16})
+    with pytest.raises(UserError, match="predicted observations only"):
+        make_suite("house-single", perception=str(path))

@@ -3,7 +3,9 @@
 Episodes come from the suite files of ``objsearch.sim.suites``; the env is
 ``ObjSearch/House-v0`` in ``cached`` mode by default (``objsearch cache build --suite NAME``
 renders the caches ahead; otherwise the first episode in a house builds its cache) or
-``live``.
+``live``. With ``observation="predicted"`` the agent's ``semantic`` and ``depth`` are the
+perception network's predictions (``perception``: a checkpoint, default the shipped one),
+as in the paper; success is still judged on the ground truth.
 """
 
 from __future__ import annotations
@@ -13,7 +15,7 @@ from functools import cached_property
 
 from objsearch.eval.suites import Episode
 from objsearch.house.categories import CATEGORY_IDS
-from objsearch.sim.env import MODES, HouseEnv, HouseTask
+from objsearch.sim.env import MODES, OBSERVATIONS, HouseEnv, HouseTask
 from objsearch.sim.navgraph import PoseGraph
 from objsearch.sim.suites import episode_task, house_refs, load_suite_file
 from objsearch.sim.world import World
@@ -33,21 +35,41 @@ class HousePath:
 
 
 class HouseSuite:
-    """A house suite. Args: ``mode`` (``cached`` or ``live``), ``cache_dir``, ``max_steps``."""
+    """A house suite. Args: ``mode`` (``cached`` or ``live``), ``cache_dir``, ``max_steps``,
+    ``observation`` (``gt`` or ``predicted``), ``perception`` (the predicted mode's checkpoint;
+    default: the shipped one) and ``perception_key`` (if given, the checkpoint must have this
+    key: results record it, so a resumed or validated run uses the same network)."""
 
     name = ""
 
-    def __init__(self, mode: str = "cached", cache_dir: str | None = None, max_steps: int | None = None):
+    def __init__(self, mode: str = "cached", cache_dir: str | None = None, max_steps: int | None = None,
+                 observation: str = "gt", perception: str | None = None, perception_key: str | None = None):
         if mode not in MODES:
             raise UserError(f"unknown render mode {mode!r}; use one of {', '.join(MODES)}")
+        if observation not in OBSERVATIONS:
+            raise UserError(f"unknown observation {observation!r}; use one of {', '.join(OBSERVATIONS)}")
+        if observation != "predicted" and (perception or perception_key):
+            raise UserError("a perception checkpoint applies to predicted observations only (--observation predicted)")
         self.data = load_suite_file(self.name)
         self.mode, self.cache_dir = mode, cache_dir
         self.max_steps = int(max_steps or self.data["max_steps"])
         self.episode_set_version = self.data["version"]
         self.splits = tuple(self.data["splits"])
+        self.observation, self.predictor, self.perception = observation, None, None
+        if observation == "predicted":
+            from objsearch.perception.inference import Predictor, resolve_checkpoint
+
+            self.perception = str(resolve_checkpoint(perception))
+            self.predictor = Predictor.from_checkpoint(self.perception, device="cpu")
+            if perception_key is not None and perception_key != self.predictor.key:
+                raise UserError(f"perception checkpoint {self.perception} has key {self.predictor.key}, "
+                                f"not {perception_key} as recorded; pass the checkpoint the results were made with")
 
     def config(self) -> dict:
-        return {"mode": self.mode, "cache_dir": self.cache_dir, "max_steps": self.max_steps}
+        config = {"mode": self.mode, "cache_dir": self.cache_dir, "max_steps": self.max_steps}
+        if self.predictor is not None:
+            config.update(observation="predicted", perception=self.perception, perception_key=self.predictor.key)
+        return config
 
     @cached_property
     def worlds(self) -> dict[str, World]:
@@ -72,7 +94,8 @@ class HouseSuite:
         return out
 
     def make_env(self) -> HouseEnv:
-        return HouseEnv(house_refs(self.data), mode=self.mode, max_steps=self.max_steps, cache_dir=self.cache_dir)
+        return HouseEnv(house_refs(self.data), mode=self.mode, max_steps=self.max_steps, cache_dir=self.cache_dir,
+                        observation=self.observation, predictor=self.predictor)
 
 
     def write_video(self, directory: str, record: dict, episode: Episode, trajectory: list) -> None:
