@@ -1,5 +1,8 @@
+from pathlib import Path
+
 import cv2
 import numpy as np
+import pytest
 
 from objsearch_agents.grg import GoalsRelationalGraph
 from objsearch_agents.grg_plot import CHAINS, chain_recovery, main
@@ -45,8 +48,24 @@ def test_shipped_hrl_grg_graph_recovers_the_goal_chains():
     assert chain_recovery(agent.policy.grg.edge_weights()) >= 0.75
 
 
-def test_agents_without_a_shipped_checkpoint_start_untrained():
+LEARNED = ("dqn", "hdqn", "hrl_grg", "hrl_grg_no_relation", "hrl_grg_no_termination", "hrl_grg_no_high_level")
+
+
+@pytest.mark.parametrize("name", LEARNED)
+def test_learned_agents_load_their_shipped_checkpoint(name):
+    """`objsearch-eval --agent NAME` evaluates the shipped weights, which carry the command that made them."""
     from objsearch.eval.registry import make_agent
 
-    assert make_agent("hdqn").loaded_from is None
-    assert make_agent("dqn").loaded_from.endswith("checkpoints/gridworld/dqn/policy.pt")
+    agent = make_agent(name)
+    if agent.loaded_from is None:
+        pytest.skip(f"no shipped checkpoint for {name} yet")
+    folder = Path(agent.loaded_from).parent
+    assert folder.name == name and (folder / "command.txt").read_text().startswith(f"objsearch train --agent {name} ")
+    assert (folder / "README.md").is_file() and (folder / "log.csv").is_file()
+
+
+def test_an_agent_without_a_shipped_checkpoint_starts_untrained(monkeypatch):
+    from objsearch_agents.dqn import DQNAgent
+
+    monkeypatch.setattr(DQNAgent, "checkpoint_name", "not-shipped")
+    assert DQNAgent().loaded_from is None
