@@ -82,10 +82,22 @@ def run_train(args: argparse.Namespace) -> int:
     return 0 if finished else 130
 
 
+def target_categories() -> list[int]:
+    """Category ids that the house suites (house-single, house-multi, house-gen) search for."""
+    from objsearch.house.categories import CATEGORY_IDS
+    from objsearch.sim.suites import SUITE_NAMES, load_suite_file
+
+    names = set()
+    for suite in SUITE_NAMES:
+        for group in load_suite_file(suite)["categories"].values():
+            names.update(group)
+    return sorted(CATEGORY_IDS[name] for name in names)
+
+
 def run_eval(args: argparse.Namespace) -> int:
     from objsearch.perception.dataset import load_split, read_manifest
     from objsearch.perception.inference import Predictor, evaluate
-    from objsearch.perception.metrics import format_table
+    from objsearch.perception.metrics import format_table, miou_over
 
     manifest = read_manifest(args.data)
     predictor = Predictor.from_checkpoint(args.checkpoint, device=args.device)
@@ -96,8 +108,12 @@ def run_eval(args: argparse.Namespace) -> int:
                         f"{args.data} holds {manifest['settings']}")
     frames = load_split(args.data, args.split, args.max_frames)
     result = evaluate(predictor, frames, progress=not args.json)
+    targets = target_categories()
+    result["miou_targets"] = miou_over(result, targets)
     print(f"{args.split}: {len(frames)} frames from {len(set(frames.houses.tolist()))} houses, checkpoint {predictor.key}")
     print(format_table(result))
+    print(f"mIoU over the {sum(c in result['iou'] for c in targets)} target categories of the house suites present: "
+          f"{result['miou_targets']:.3f}")
     if args.json:
         from objsearch.house.categories import CATEGORY_NAMES
 

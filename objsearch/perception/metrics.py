@@ -9,6 +9,8 @@ Segmentation: one confusion matrix ``conf[gt, pred]`` over every category id.
   absent from the ground truth are not counted either (their false positives still lower
   the IoU of the classes whose pixels they took). ``counted`` lists the ids averaged.
 * ``pixel_accuracy``: correct pixels / all pixels (every class).
+* ``miou_over(result, ids)``: the same mean over a subset of categories (``objsearch
+  perception eval`` reports it for the house suites' target categories as ``miou_targets``).
 
 Depth, over pixels whose ground truth hit something (0 < gt < ``zfar``):
 
@@ -48,6 +50,12 @@ def segmentation_metrics(conf: np.ndarray) -> dict:
         "iou": {int(c): float(iou[c]) for c in np.flatnonzero(present)},
         "gt_pixels": {int(c): int(gt_pixels[c]) for c in np.flatnonzero(present)},
     }
+
+
+def miou_over(result: dict, ids) -> float:
+    """Mean IoU over those of the category ``ids`` that have ground-truth pixels (nan if none)."""
+    present = [result["iou"][c] for c in ids if c in result["iou"]]
+    return float(np.mean(present)) if present else float("nan")
 
 
 class DepthErrors:

@@ -30,7 +30,7 @@ def test_dataset_train_eval_json(tmp_path, capsys):
     r = _run("eval", "--checkpoint", str(run / "model.pt"), "--data", str(data), "--json", cwd=tmp_path)
     assert r.returncode == 0, r.stderr
     result = json.loads(r.stdout.strip().splitlines()[-1])
-    assert {"miou", "depth_absrel", "depth_rmse", "depth_delta1", "pixel_accuracy", "per_category"} <= set(result)
+    assert {"miou", "miou_targets", "depth_absrel", "depth_rmse", "depth_delta1", "pixel_accuracy", "per_category"} <= set(result)
     assert result["split"] == "test" and result["frames"] == 8
     # bad input: exit 2 with a message naming it (in-process: no second interpreter start)
     assert main(["perception", "eval", "--checkpoint", str(tmp_path / "missing.pt"), "--data", str(data)]) == 2

@@ -4,7 +4,7 @@ import numpy as np
 import pytest
 
 from objsearch.house.categories import CATEGORY_IDS
-from objsearch.perception.metrics import DepthErrors, Evaluation, confusion_matrix, format_table, segmentation_metrics
+from objsearch.perception.metrics import DepthErrors, Evaluation, confusion_matrix, format_table, miou_over, segmentation_metrics
 
 WALL, FLOOR = CATEGORY_IDS["wall"], CATEGORY_IDS["floor"]
 SOFA, TV, BED = CATEGORY_IDS["sofa"], CATEGORY_IDS["tv"], CATEGORY_IDS["bed"]
@@ -39,6 +39,10 @@ def test_miou_averages_present_object_categories_only():
     assert m["counted"] == [SOFA, BED] and m["miou"] == pytest.approx((2 / 3 + 1 / 2) / 2)
     empty = segmentation_metrics(confusion_matrix(np.array([WALL]), np.array([WALL])))
     assert empty["counted"] == [] and math.isnan(empty["miou"])
+    # a subset (the suites' target categories): absent members are skipped, not counted as 0
+    assert miou_over(m, [BED]) == pytest.approx(1 / 2)
+    toilet = CATEGORY_IDS["toilet"]  # absent from these frames
+    assert miou_over(m, [BED, SOFA, toilet]) == pytest.approx(m["miou"]) and math.isnan(miou_over(m, [toilet]))
 
 
 def test_depth_errors_by_hand_skip_pixels_that_hit_nothing():
