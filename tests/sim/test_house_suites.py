@@ -124,3 +124,13 @@ def test_predicted_observations_through_the_harness(cache_dir, tmp_path):
         make_suite("house-single", **{**results["config"]["suite_config"], "perception_key": "0" * 16})
     with pytest.raises(UserError, match="predicted observations only"):
         make_suite("house-single", perception=str(path))
+    small = tmp_path / "small.pt"
+    save_checkpoint(small, model, {**GOAL_CAMERA.to_dict(), "width": 32, "height": 32})
+    with pytest.raises(UserError, match="camera is"):
+        make_suite("house-single", observation="predicted", perception=str(small))
+
+    from objsearch.cli import main
+
+    assert main(["cache", "build", "--suite", "house-single", "--cache-dir", cache_dir, "--observation", "predicted",
+                 "--perception", str(path)]) == 0
+    assert main(["cache", "build", "--suite", "house-single", "--perception", str(path)]) == 2

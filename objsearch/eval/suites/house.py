@@ -16,6 +16,7 @@ from functools import cached_property
 from objsearch.eval.suites import Episode
 from objsearch.house.categories import CATEGORY_IDS
 from objsearch.sim.env import MODES, OBSERVATIONS, HouseEnv, HouseTask
+from objsearch.sim.goals import GOAL_CAMERA
 from objsearch.sim.navgraph import PoseGraph
 from objsearch.sim.suites import episode_task, house_refs, load_suite_file
 from objsearch.sim.world import World
@@ -61,6 +62,9 @@ class HouseSuite:
 
             self.perception = str(resolve_checkpoint(perception))
             self.predictor = Predictor.from_checkpoint(self.perception, device="cpu")
+            if self.predictor.settings != GOAL_CAMERA.to_dict():
+                raise UserError(f"perception checkpoint {self.perception} was trained on frames rendered with "
+                                f"{self.predictor.settings}; the house suites' camera is {GOAL_CAMERA.to_dict()}")
             if perception_key is not None and perception_key != self.predictor.key:
                 raise UserError(f"perception checkpoint {self.perception} has key {self.predictor.key}, "
                                 f"not {perception_key} as recorded; pass the checkpoint the results were made with")
@@ -96,7 +100,6 @@ class HouseSuite:
     def make_env(self) -> HouseEnv:
         return HouseEnv(house_refs(self.data), mode=self.mode, max_steps=self.max_steps, cache_dir=self.cache_dir,
                         observation=self.observation, predictor=self.predictor)
-
 
     def write_video(self, directory: str, record: dict, episode: Episode, trajectory: list) -> None:
         from pathlib import Path
