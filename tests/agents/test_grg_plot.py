@@ -57,8 +57,7 @@ def test_learned_agents_load_their_shipped_checkpoint(name):
     from objsearch.eval.registry import make_agent
 
     agent = make_agent(name)
-    if agent.loaded_from is None:
-        pytest.skip(f"no shipped checkpoint for {name} yet")
+    assert agent.loaded_from, f"no shipped checkpoint in agents/checkpoints/gridworld/{name}/"
     folder = Path(agent.loaded_from).parent
     assert folder.name == name and (folder / "command.txt").read_text().startswith(f"objsearch train --agent {name} ")
     assert (folder / "README.md").is_file() and (folder / "log.csv").is_file()
