@@ -251,13 +251,18 @@ class TrainRun:
         self.policy.refresh_plans()
         self.policy.load_state_dict(s["policy"])
 
-    def save(self) -> None:
+    def write_log(self) -> None:
+        """Rewrite ``log.csv`` with every row so far (after each row, not only at checkpoints)."""
         self.out.mkdir(parents=True, exist_ok=True)
-        save_policy(self.policy, self.out)
         with atomic_write(self.out / LOG_FILE) as f:
             writer = csv.DictWriter(f, fieldnames=LOG_FIELDS)
             writer.writeheader()
             writer.writerows(self.rows)
+
+    def save(self) -> None:
+        self.out.mkdir(parents=True, exist_ok=True)
+        save_policy(self.policy, self.out)
+        self.write_log()
         with atomic_write(self.out / STATE_FILE, "wb") as f:
             torch.save(self.state_dict(), f)
 
@@ -279,6 +284,7 @@ class TrainRun:
                     bar.update(min(k["finished"], c.episodes) - min(before, c.episodes))
                     if k["finished"] // c.log_every > before // c.log_every:
                         self.log_row()
+                        self.write_log()
                         r = self.rows[-1]
                         bar.set_postfix(sr=r["success_rate"], eps=r["epsilon"], loss=r["loss_low"])
                     if k["finished"] // c.checkpoint_every > before // c.checkpoint_every:

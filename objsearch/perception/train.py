@@ -169,14 +169,19 @@ class TrainRun:
         self.rows.append(row)
         return row
 
-    def save(self) -> None:
+    def write_log(self) -> None:
+        """Rewrite ``log.csv`` with every row so far (after each row, not only at checkpoints)."""
         self.out.mkdir(parents=True, exist_ok=True)
-        self.config.save(self.out / CONFIG_FILE)
-        save_checkpoint(self.out / MODEL_FILE, self.model, self.settings)
         with atomic_write(self.out / LOG_FILE) as f:
             writer = csv.DictWriter(f, fieldnames=LOG_FIELDS)
             writer.writeheader()
             writer.writerows(self.rows)
+
+    def save(self) -> None:
+        self.out.mkdir(parents=True, exist_ok=True)
+        self.config.save(self.out / CONFIG_FILE)
+        save_checkpoint(self.out / MODEL_FILE, self.model, self.settings)
+        self.write_log()
         state = {"config": self.config.to_json(), "model": self.model.state_dict(), "optimizer": self.optimizer.state_dict(),
                  "step": self.step, "wall_s": self.wall_s, "rows": self.rows}
         with atomic_write(self.out / STATE_FILE, "wb") as f:
@@ -199,6 +204,7 @@ class TrainRun:
                     if self.step % c.log_every == 0 or last or self.step % c.eval_every == 0:
                         extra = self.validate() if (self.step % c.eval_every == 0 or last) else {}
                         row = self.log_row(extra)
+                        self.write_log()
                         bar.set_postfix({k: row[k] for k in ("loss", "val_miou", "val_absrel") if k in row})
                     if self.step % c.checkpoint_every == 0 or last:
                         self.save()

@@ -53,3 +53,14 @@ def test_resumed_run_equals_uninterrupted_run(tiny_dataset, tmp_path):
         assert torch.equal(tensor, resumed.model.state_dict()[name]), name
     assert (tmp_path / "a" / "config.json").exists() and (tmp_path / "a" / "log.csv").exists()
     assert TrainConfig.load(tmp_path / "a" / "config.json") == config
+
+
+def test_log_rows_reach_log_csv_before_any_checkpoint(tiny_dataset, tmp_path, monkeypatch):
+    """A long run shows its curve as it goes, not only every checkpoint_every steps."""
+    import csv
+
+    run = TrainRun(_config(tiny_dataset, steps=3, log_every=1), tmp_path / "run")
+    monkeypatch.setattr(run, "save", lambda: None)  # no checkpoint at all
+    assert run.run(progress=False)
+    rows = list(csv.DictReader((tmp_path / "run" / "log.csv").open()))
+    assert [r["step"] for r in rows] == ["1", "2", "3"] and not (tmp_path / "run" / "model.pt").exists()
