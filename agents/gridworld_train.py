@@ -34,7 +34,6 @@ replay memories, env and option state, random generator, counters, log rows),
 
 from __future__ import annotations
 
-import csv
 import io
 import math
 import time
@@ -46,7 +45,7 @@ import torch
 from tqdm import tqdm
 
 from objsearch.errors import UserError
-from objsearch.fileio import atomic_write
+from objsearch.fileio import atomic_write, write_csv
 from objsearch.interrupt import stop_on_interrupt
 from objsearch.gridworld.batched import HALF, BatchedGridWorld, GridTables
 from objsearch.gridworld.maps import GridMap
@@ -253,11 +252,7 @@ class TrainRun:
 
     def write_log(self) -> None:
         """Rewrite ``log.csv`` with every row so far (after each row, not only at checkpoints)."""
-        self.out.mkdir(parents=True, exist_ok=True)
-        with atomic_write(self.out / LOG_FILE) as f:
-            writer = csv.DictWriter(f, fieldnames=LOG_FIELDS)
-            writer.writeheader()
-            writer.writerows(self.rows)
+        write_csv(self.out / LOG_FILE, LOG_FIELDS, self.rows)
 
     def save(self) -> None:
         self.out.mkdir(parents=True, exist_ok=True)

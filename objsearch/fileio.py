@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import contextlib
+import csv
 import json
 import os
 import shutil
@@ -37,6 +38,14 @@ def write_json(path: str | os.PathLike, obj, indent: int | None = 1) -> None:
     with atomic_write(path) as f:
         json.dump(obj, f, indent=indent)
         f.write("\n")
+
+
+def write_csv(path: str | os.PathLike, fieldnames, rows) -> None:
+    """Write ``rows`` (dicts) as CSV with a header atomically."""
+    with atomic_write(path) as f:
+        writer = csv.DictWriter(f, fieldnames=fieldnames)
+        writer.writeheader()
+        writer.writerows(rows)
 
 
 @contextlib.contextmanager

@@ -18,7 +18,6 @@ writes a checkpoint and exits with 130.
 
 from __future__ import annotations
 
-import csv
 import time
 from pathlib import Path
 
@@ -27,7 +26,7 @@ import torch
 import torch.nn.functional as F
 
 from objsearch.errors import UserError
-from objsearch.fileio import atomic_write
+from objsearch.fileio import atomic_write, write_csv
 from objsearch.interrupt import stop_on_interrupt
 from objsearch.perception.config import TrainConfig
 from objsearch.perception.dataset import load_split, read_manifest
@@ -171,11 +170,7 @@ class TrainRun:
 
     def write_log(self) -> None:
         """Rewrite ``log.csv`` with every row so far (after each row, not only at checkpoints)."""
-        self.out.mkdir(parents=True, exist_ok=True)
-        with atomic_write(self.out / LOG_FILE) as f:
-            writer = csv.DictWriter(f, fieldnames=LOG_FIELDS)
-            writer.writeheader()
-            writer.writerows(self.rows)
+        write_csv(self.out / LOG_FILE, LOG_FIELDS, self.rows)
 
     def save(self) -> None:
         self.out.mkdir(parents=True, exist_ok=True)
