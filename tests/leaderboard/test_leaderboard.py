@@ -9,7 +9,7 @@ from pathlib import Path
 import pytest
 
 from objsearch.eval.runner import EvalConfig, evaluate
-from objsearch.leaderboard.render import render, stored_submissions
+from objsearch.leaderboard.render import leaderboard_rows, render, render_markdown, stored_submissions
 from objsearch.leaderboard.validate import check_submission
 
 ROOT = Path(__file__).resolve().parents[2]
@@ -106,8 +106,8 @@ def test_add_check_and_render_through_the_cli(tmp_path, oracle_results, random_r
 
     readme = (tmp_path / "leaderboard/README.md").read_text()
     rows = [line for line in readme.splitlines() if line.startswith("| 1 ") or line.startswith("| 2 ")]
-    assert rows[0].startswith("| 1 | oracle | 1.00") and rows[1].startswith("| 2 | random |")
-    assert "*paper: HRL-GRG*" in readme
+    assert rows[0].startswith("| 1 | oracle | gt | 1.00") and rows[1].startswith("| 2 | random | gt |")
+    assert "*paper: HRL-GRG* | *gt*" in readme
 
 
 def test_pages_come_from_the_stored_submissions_alone(tmp_path, oracle_results):
@@ -122,6 +122,15 @@ def test_pages_come_from_the_stored_submissions_alone(tmp_path, oracle_results):
     tables = first["paper_tables.md"]  # Tables 1 and 2: ours in bold, the paper's in brackets
     assert "| Oracle | not run (1.00) | not run (1.00) | not run (11.81 / 11.81) | **1.00** (1.00) | **1.00** (1.00) |" in tables
     assert "| HRL-GRG | not run (0.57) | not run (0.33) |" in tables and tables.count("| HRL-GRG |") == 2
+
+
+def test_rows_say_whether_the_agent_saw_ground_truth_or_predictions(oracle_results):
+    predicted = copy.deepcopy(oracle_results)
+    predicted["config"]["suite_config"] = {"observation": "predicted", "perception_key": "e0415a3134cf0e34"}
+    tables = leaderboard_rows([("oracle", oracle_results), ("oracle_pred", predicted)])
+    rows = {r["name"]: r["observation"] for r in tables["gridworld"]["unseen-goals"]}
+    assert rows == {"oracle": "gt", "oracle_pred": "predicted e0415a3134cf0e34"}
+    assert "| oracle_pred | predicted e0415a3134cf0e34 | 1.00 |" in render_markdown(tables)
 
 
 def test_the_repository_leaderboard_is_valid_and_up_to_date(tmp_path):
@@ -161,4 +170,5 @@ def test_index_html_renders_the_rows_in_headless_chromium(tmp_path, oracle_resul
     assert dom.count('<tr class="entry">') == 2
     assert dom.count('<tr class="paper">') == 8
     assert dom.index("<td>oracle</td>") < dom.index("<td>random</td>"), "ranked by SPL"
+    assert "<td>oracle</td><td>gt</td>" in dom
     assert dom.count('class="point"') == 2 and dom.count('class="bar"') == 2 * 4  # 4 unseen goals each
