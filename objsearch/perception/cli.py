@@ -20,10 +20,12 @@ def add_parser(subparsers) -> None:
     data = commands.add_parser("dataset", help="render training / validation / test frames of house-gen's houses")
     data.add_argument("--out", required=True, help="dataset folder (an interrupted build there resumes)")
     data.add_argument("--seed", type=non_negative_int, default=0, help="pose sampling seed (default: 0)")
-    data.add_argument("--poses-per-house", type=non_negative_int, default=500, help="frames per training house (default: 500)")
+    data.add_argument("--poses-per-house", type=non_negative_int, default=200, help="frames per training house (default: 200)")
     data.add_argument("--eval-poses-per-house", type=non_negative_int, default=200, help="frames per val / test house (default: 200)")
-    for split, total in (("train", 40), ("val", 10), ("test", 10)):
-        data.add_argument(f"--{split}-houses", type=non_negative_int, help=f"use only the first N {split} houses (default: all {total})")
+    data.add_argument("--train-houses", type=non_negative_int,
+                      help="training houses: house-gen's 40, then generated ones (default: 200)")
+    for split in ("val", "test"):
+        data.add_argument(f"--{split}-houses", type=non_negative_int, help=f"use only the first N of the 10 {split} houses")
     data.add_argument("--size", type=non_negative_int, help="render width and height in pixels (default: 64, the agent camera's)")
     data.add_argument("--quiet", action="store_true", help="no progress bar")
     data.set_defaults(func=run_dataset)
@@ -59,7 +61,7 @@ def run_dataset(args: argparse.Namespace) -> int:
     settings = RenderSettings() if args.size is None else RenderSettings(width=args.size, height=args.size)
     limits = {s: getattr(args, f"{s}_houses") for s in ("train", "val", "test") if getattr(args, f"{s}_houses") is not None}
     manifest = build_dataset(args.out, settings=settings, seed=args.seed, poses_per_house=args.poses_per_house,
-                             eval_poses_per_house=args.eval_poses_per_house, max_houses=limits, progress=not args.quiet)
+                             eval_poses_per_house=args.eval_poses_per_house, houses=limits, progress=not args.quiet)
     for split, entry in manifest["splits"].items():
         print(f"{split}: {entry['frames']} frames from {len(entry['houses'])} houses")
     print(f"wrote {args.out}/manifest.json")
@@ -118,9 +120,11 @@ def run_eval(args: argparse.Namespace) -> int:
         from objsearch.house.categories import CATEGORY_NAMES
 
         summary = {k: (None if isinstance(v, float) and math.isnan(v) else v) for k, v in result.items()
-                   if k not in ("iou", "gt_pixels", "counted")}
+                   if k not in ("iou", "gt_pixels", "counted", "confused_with")}
         summary.update(split=args.split, frames=len(frames), checkpoint_key=predictor.key,
                        counted=[CATEGORY_NAMES[c] for c in result["counted"]],
-                       per_category={CATEGORY_NAMES[c]: round(v, 4) for c, v in result["iou"].items()})
+                       per_category={CATEGORY_NAMES[c]: round(v, 4) for c, v in result["iou"].items()},
+                       confused_with={CATEGORY_NAMES[c]: [CATEGORY_NAMES.get(o, "?"), round(share, 4)]
+                                      for c, (o, share) in result["confused_with"].items()})
         print(json.dumps(summary, sort_keys=True))
     return 0

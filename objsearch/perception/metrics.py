@@ -9,6 +9,8 @@ Segmentation: one confusion matrix ``conf[gt, pred]`` over every category id.
   absent from the ground truth are not counted either (their false positives still lower
   the IoU of the classes whose pixels they took). ``counted`` lists the ids averaged.
 * ``pixel_accuracy``: correct pixels / all pixels (every class).
+* ``confused_with``: for each class with ground-truth pixels, the other class that took
+  most of them and the share it took (what a low IoU is lost to).
 * ``miou_over(result, ids)``: the same mean over a subset of categories (``objsearch
   perception eval`` reports it for the house suites' target categories as ``miou_targets``).
 
@@ -43,12 +45,18 @@ def segmentation_metrics(conf: np.ndarray) -> dict:
     iou = np.where(present, tp / np.maximum(union, 1), np.nan)
     counted = [int(c) for c in np.flatnonzero(present) if c >= FIRST_OBJECT_ID]
     total = conf.sum()
+    others = conf - np.diag(tp)
+    confused_with = {}
+    for c in np.flatnonzero(present):
+        worst = int(np.argmax(others[c]))
+        confused_with[int(c)] = (worst, float(others[c, worst] / gt_pixels[c]))
     return {
         "miou": float(np.mean(iou[counted])) if counted else float("nan"),
         "pixel_accuracy": float(tp.sum() / total) if total else float("nan"),
         "counted": counted,
         "iou": {int(c): float(iou[c]) for c in np.flatnonzero(present)},
         "gt_pixels": {int(c): int(gt_pixels[c]) for c in np.flatnonzero(present)},
+        "confused_with": confused_with,
     }
 
 
@@ -103,10 +111,12 @@ class Evaluation:
 
 def format_table(result: dict) -> str:
     """The per-category table (every class with ground-truth pixels) and the summary lines."""
-    lines = [f"{'id':>3}  {'category':<16} {'IoU':>6} {'gt pixels':>10}  counted"]
+    lines = [f"{'id':>3}  {'category':<16} {'IoU':>6} {'gt pixels':>10}  counted  most taken by"]
     for c, iou in sorted(result["iou"].items()):
         mark = "yes" if c in result["counted"] else "-"
-        lines.append(f"{c:>3}  {CATEGORY_NAMES.get(c, '?'):<16} {iou:6.3f} {result['gt_pixels'][c]:>10}  {mark}")
+        other, share = result["confused_with"][c]
+        lines.append(f"{c:>3}  {CATEGORY_NAMES.get(c, '?'):<16} {iou:6.3f} {result['gt_pixels'][c]:>10}  {mark:<7}  "
+                     f"{CATEGORY_NAMES.get(other, '?')} {share:.0%}")
     lines.append(f"mIoU over {len(result['counted'])} object categories: {result['miou']:.3f}   "
                  f"pixel accuracy: {result['pixel_accuracy']:.3f}")
     lines.append(f"depth AbsRel: {result['depth_absrel']:.3f}   RMSE: {result['depth_rmse']:.3f} m   "

@@ -29,6 +29,9 @@ def test_iou_by_hand_with_a_predicted_but_absent_class():
     assert TV not in m["iou"] and m["counted"] == [SOFA]
     assert m["miou"] == pytest.approx(2 / 5)
     assert m["pixel_accuracy"] == pytest.approx(7 / 10)
+    # what each class loses its pixels to: half the sofa's went to the tv, a quarter of the wall's to the sofa
+    assert m["confused_with"][SOFA] == (TV, pytest.approx(2 / 4)) and m["confused_with"][WALL] == (SOFA, pytest.approx(1 / 4))
+    assert "tv 50%" in format_table({**m, "depth_absrel": 0.0, "depth_rmse": 0.0, "depth_delta1": 1.0})
 
 
 def test_miou_averages_present_object_categories_only():
