@@ -3,7 +3,7 @@ import pytest
 
 from objsearch.errors import UserError
 from objsearch.perception.dataset import (
-    load_split, read_manifest, read_shard, sample_pose_ids, split_houses, write_shard,
+    EXTRA_TRAIN_SEED, load_split, read_manifest, read_shard, sample_pose_ids, split_houses, write_shard,
 )
 from objsearch.perception.model import NUM_CLASSES
 
@@ -16,6 +16,19 @@ def test_splits_are_disjoint_and_keep_test_instances_out_of_training():
     assert {h["split"] for h in val.values()} == {h["split"] for h in test.values()} == {"test"}
     with pytest.raises(UserError, match="unknown dataset split"):
         split_houses("holdout")
+
+
+def test_more_training_houses_are_generated_past_the_suites_forty():
+    train = split_houses("train", 42)
+    suite = split_houses("train")
+    assert list(train)[:40] == list(suite)  # a smaller build is a prefix of a larger one
+    extra = [train[h] for h in list(train)[40:]]
+    assert [h["seed"] for h in extra] == [EXTRA_TRAIN_SEED, EXTRA_TRAIN_SEED + 1]
+    assert {h["split"] for h in extra} == {"train"} and all(len(h["spec_sha256"]) == 64 for h in extra)
+    assert not set(train) & (set(split_houses("val")) | set(split_houses("test")))
+    assert list(split_houses("train", 3)) == list(suite)[:3]
+    with pytest.raises(UserError, match="the test split has 10 houses, not 11"):
+        split_houses("test", 11)
 
 
 def test_pose_sampling_is_seeded_per_house():
