@@ -33,7 +33,7 @@ def add_parser(subparsers) -> None:
     train = commands.add_parser("train", help="train the network (resumable)")
     train.add_argument("--data", required=True, help="dataset folder")
     train.add_argument("--out", required=True, help="run folder; a run there with the same config is resumed")
-    train.add_argument("--steps", type=non_negative_int, help="optimizer steps (default: the config's 9000)")
+    train.add_argument("--steps", type=non_negative_int, help="optimizer steps (default: the config's 12000)")
     train.add_argument("--batch-size", type=non_negative_int, help="frames per step (default: 32)")
     train.add_argument("--seed", type=non_negative_int, help="run seed (default: 0)")
     train.add_argument("--device", help="auto (default: CUDA when present), cpu or cuda")

@@ -23,9 +23,9 @@ class TrainConfig:
     """Dataset folder written by ``objsearch perception dataset`` (its ``train`` and ``val`` splits)."""
     seed: int = 0
     """Seeds the weight initialisation, the order of frames in every epoch and the augmentation."""
-    steps: int = 9_000
-    """Optimizer steps (one batch each). The default, 12 epochs of the default 20,000-frame train split, is
-    sized for about two hours on 2 free CPU cores (docs/perception.md)."""
+    steps: int = 12_000
+    """Optimizer steps (one batch each). The default, 9.6 epochs of the default 40,000-frame train split, takes
+    about 90 minutes on 2 free CPU cores (0.44 s a step; docs/perception.md)."""
     batch_size: int = 32
     """Frames per step."""
     lr: float = 2e-3
