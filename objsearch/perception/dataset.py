@@ -97,12 +97,13 @@ def split_houses(split: str, count: int | None = None) -> dict[str, dict]:
     if count > len(houses) and split != "train":
         raise UserError(f"the {split} split has {len(houses)} houses, not {count}; ask for at most {len(houses)}")
     if count > len(houses):
+        from objsearch.sim.suites import house_entry
         from objsearch.sim.world import HouseRef, World
 
         for seed in range(EXTRA_TRAIN_SEED, EXTRA_TRAIN_SEED + count - len(houses)):
-            world = World.load(HouseRef(seed=seed, split="train"))
-            houses.append((world.house_id, {"seed": seed, "split": "train", "size_class": world.spec.size_class,
-                                            "spec_sha256": world.spec_sha256}))
+            ref = HouseRef(seed=seed, split="train")
+            world = World.load(ref)
+            houses.append((world.house_id, house_entry(world, ref)))
     return dict(houses[:count])
 
 

@@ -106,7 +106,8 @@ def _episodes(worlds: dict[str, World], goals: dict, targets: list[str], count: 
     return out
 
 
-def _house_entry(world: World, ref: HouseRef) -> dict:
+def house_entry(world: World, ref: HouseRef) -> dict:
+    """The fields a suite file stores for a house (``HouseRef`` fields, with the spec hash)."""
     return {"seed": ref.seed, "split": ref.split, "size_class": world.spec.size_class, "spec_sha256": world.spec_sha256}
 
 
@@ -138,12 +139,12 @@ def build_suite(name: str, cache_dir: str | None = None) -> dict:
     houses, goals = {}, {}
     for key, refs in eval_refs.items():
         for ref, world in zip(refs, worlds[key]):
-            houses[world.house_id] = _house_entry(world, ref)
+            houses[world.house_id] = house_entry(world, ref)
             goals[world.house_id] = _goal_table(world, TARGETS, cache_dir)
     training = {}
     for ref in train_refs:
         world = World.load(ref)
-        training[world.house_id] = _house_entry(world, ref)
+        training[world.house_id] = house_entry(world, ref)
 
     def common(ws):
         sets = [set(goals[w.house_id]) for w in ws]
