@@ -24,6 +24,7 @@ demo: $(STAMP)
 	$(BIN)/objsearch-eval
 	$(BIN)/objsearch-eval --agent oracle
 	$(BIN)/objsearch-eval --agent hrl_grg --split unseen-goals --seeds 1 --workers 2
+	$(BIN)/objsearch-eval --agent hrl_grg --suite house-single --seeds 1 --batch 32
 
 test: $(STAMP)
 	$(BIN)/python -m pytest -q
@@ -39,8 +40,18 @@ LEADERBOARD_GRID_AGENTS ?= dqn hdqn hrl_grg hrl_grg_no_relation hrl_grg_no_termi
 # the same checkpoints evaluated greedily (epsilon 0): entry=agent
 LEADERBOARD_GREEDY ?= dqn_greedy=objsearch_agents.dqn:DQNGreedyAgent hdqn_greedy=objsearch_agents.hdqn:HDQNGreedyAgent \
 	hrl_grg_greedy=objsearch_agents.hrl_grg:HRLGRGGreedyAgent
+# house agents with shipped checkpoints: suite:agent, each evaluated on gt and on predicted observations
+LEADERBOARD_HOUSE ?= house-single:a3c house-single:dqn house-single:hdqn house-single:hrl_grg \
+	house-multi:a3c house-multi:dqn house-multi:hdqn house-multi:hrl_grg
 leaderboard: $(STAMP)
 	mkdir -p build
+	for pair in $(LEADERBOARD_HOUSE); do suite=$${pair%%:*}; agent=$${pair#*:}; \
+	  $(BIN)/objsearch-eval --agent $$agent --suite $$suite --batch 32 --quiet --out build/$$suite-$$agent.json && \
+	  $(BIN)/objsearch leaderboard add build/$$suite-$$agent.json --replace && \
+	  $(BIN)/objsearch-eval --agent $$agent --suite $$suite --batch 32 --quiet --observation predicted \
+	    --out build/$$suite-$${agent}_predicted.json && \
+	  $(BIN)/objsearch leaderboard add build/$$suite-$${agent}_predicted.json --name $${agent}_predicted --replace || exit 1; \
+	done
 	for suite in $(LEADERBOARD_SUITES); do for agent in $(LEADERBOARD_AGENTS); do \
 	  $(BIN)/objsearch-eval --agent $$agent --suite $$suite --quiet --out build/$$suite-$$agent.json && \
 	  $(BIN)/objsearch leaderboard add build/$$suite-$$agent.json --replace || exit 1; \

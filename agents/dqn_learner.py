@@ -22,7 +22,9 @@ def _f(x: np.ndarray) -> torch.Tensor:
 
 
 class Learner:
-    """Online/target pair of one level and its optimiser."""
+    """Online/target pair of one level and its optimiser (``config``: any config with
+    ``lr``, ``rmsprop_alpha``, ``rmsprop_eps``, ``max_grad_norm`` and ``gamma``; the grid-world
+    and house agents share it)."""
 
     def __init__(self, net: nn.Module, config: GridAgentConfig):
         self.online = net
@@ -52,7 +54,7 @@ class Learner:
         self.optimizer.load_state_dict(state["optimizer"])
 
 
-def _td_loss(q_taken: torch.Tensor, reward, done, next_q: torch.Tensor, gamma: float) -> torch.Tensor:
+def td_loss(q_taken: torch.Tensor, reward, done, next_q: torch.Tensor, gamma: float) -> torch.Tensor:
     target = _f(reward) + gamma * (1.0 - _f(done)) * next_q
     return 0.5 * (target - q_taken).pow(2).mean()
 
@@ -64,7 +66,7 @@ def flat_loss(learner: Learner, batch: dict) -> torch.Tensor:
         nxt = _f(batch["next_obs"])
         a = learner.online(nxt).argmax(dim=1, keepdim=True)
         next_q = learner.target(nxt).gather(1, a)[:, 0]
-    return _td_loss(q, batch["reward"], batch["done"], next_q, learner.gamma)
+    return td_loss(q, batch["reward"], batch["done"], next_q, learner.gamma)
 
 
 def hdqn_high_loss(learner: Learner, batch: dict, num_goals: int) -> torch.Tensor:
@@ -77,7 +79,7 @@ def hdqn_high_loss(learner: Learner, batch: dict, num_goals: int) -> torch.Tenso
         mask = torch.from_numpy(candidates(batch["next_obs"]))
         a = learner.online(nxt, onehot).masked_fill(~mask, -torch.inf).argmax(dim=1, keepdim=True)
         next_q = learner.target(nxt, onehot).gather(1, a)[:, 0]
-    return _td_loss(q, batch["reward"], batch["done"], next_q, learner.gamma)
+    return td_loss(q, batch["reward"], batch["done"], next_q, learner.gamma)
 
 
 def grg_high_loss(learner: Learner, batch: dict, weights_of_goal: np.ndarray) -> torch.Tensor:
@@ -97,4 +99,4 @@ def grg_high_loss(learner: Learner, batch: dict, weights_of_goal: np.ndarray) ->
         scores[env_ix, node_ix] = learner.online(torch.from_numpy(inputs[env_ix, node_ix]))[:, 0].numpy()
         best = scores.argmax(axis=1)
         next_q = learner.target(torch.from_numpy(inputs[rows, best]))[:, 0]
-    return _td_loss(q, batch["reward"], batch["done"], next_q, learner.gamma)
+    return td_loss(q, batch["reward"], batch["done"], next_q, learner.gamma)

@@ -239,9 +239,9 @@ class GoalsRelationalGraph:
         return graph
 
     def save(self, path: str | os.PathLike) -> None:
-        """Write the graph (counts, prior, gamma) to an ``.npz`` file atomically."""
+        """Write the graph (counts, prior, gamma) to a compressed ``.npz`` file atomically."""
         with atomic_write(path, "wb") as f:
-            np.savez(f, **self.state_dict())
+            np.savez_compressed(f, **self.state_dict())
 
     @classmethod
     def load(cls, path: str | os.PathLike) -> "GoalsRelationalGraph":

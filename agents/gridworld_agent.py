@@ -1,9 +1,11 @@
 """The grid-world learning agents behind the evaluation protocol, and their ``train`` hook.
 
-``GridAgent`` wraps ``GridPolicy`` with N = 1: ``reset(task)`` starts the option state and
-takes ``task.rng`` as the only source of randomness; ``act(obs)`` first ends or continues
-the current option given the new observation, then picks a sub-goal if needed and an
-action. Evaluation explores with ``eval_epsilon`` (0.1, as the authors evaluated) at both
+``GridAgent`` wraps ``GridPolicy``: ``reset(task)`` starts the option state and takes
+``task.rng`` as the only source of randomness; ``act(obs)`` first ends or continues the
+current option given the new observation, then picks a sub-goal if needed and an action.
+The batched form (``start_batch``/``reset_batch``/``act_batch``, ``objsearch-eval --batch``)
+runs N episodes through the same code, one row each, each drawing from its own Generator;
+``reset``/``act`` are it with one slot. Evaluation explores with ``eval_epsilon`` (0.1, as the authors evaluated) at both
 levels unless the agent is built with ``epsilon=0`` (the ``...Greedy`` classes:
 ``--agent objsearch_agents.hrl_grg:HRLGRGGreedyAgent``). Inference is deterministic.
 
@@ -25,6 +27,7 @@ from objsearch.errors import UserError
 from objsearch.eval.agent import AgentTask
 from objsearch_agents.gridworld_config import GridAgentConfig
 from objsearch_agents.gridworld_policy import GridPolicy
+from objsearch_agents.rows import RowRandom
 
 TRAIN_SUITES = ("gridworld",)
 # Shipped checkpoints, one folder per agent (policy.pt, grg.npz, config.json, log.csv and
@@ -33,12 +36,32 @@ CHECKPOINTS = Path(__file__).parent / "checkpoints" / "gridworld"
 
 
 class GridAgent:
-    """A grid-world agent from a ``GridAgentConfig`` (subclasses set ``config``)."""
+    """A grid-world agent from a ``GridAgentConfig`` (subclasses set ``config``). A subclass
+    that sets ``house`` (the same method's ``HouseAgent`` class) runs in the houses too:
+    ``for_suite`` and ``train`` hand house suites to it."""
 
     config = GridAgentConfig()
     train_suites = TRAIN_SUITES
     checkpoint_name: str | None = None
     """Folder of the shipped checkpoint under ``CHECKPOINTS`` (None: none)."""
+    house: type | None = None
+
+    @classmethod
+    def worlds(cls) -> tuple[str, ...]:
+        """The worlds (``gridworld``, ``house``) whose suites this agent runs on."""
+        return ("gridworld", "house") if cls.house is not None else ("gridworld",)
+
+    @classmethod
+    def for_suite(cls, suite: str, checkpoint: str | os.PathLike | None = None):
+        """The agent for ``suite``: this grid-world agent, or the house agent of the same method."""
+        from objsearch.eval.suites import suite_world
+
+        if suite_world(suite) == "house" and cls.house is not None:
+            return cls.house.for_suite(suite, checkpoint)
+        agent = cls()
+        if checkpoint is not None:
+            agent.load(checkpoint)
+        return agent
 
     def __init__(self, epsilon: float | None = None):
         self._epsilon_override = epsilon
@@ -85,35 +108,53 @@ class GridAgent:
             self.policy.refresh_plans()
         self.loaded_from = str(path)
 
-    # -- the protocol -------------------------------------------------------------------------
+    # -- the protocol (one episode, or N in lockstep: the same code) -------------------------
     def reset(self, task: AgentTask) -> None:
-        self._rng = task.rng
-        self.policy.start(1)
-        self.policy.begin_episodes(np.array([0]), np.array([int(task.goal)]))
-        self._first = True
+        self.start_batch(1)
+        self.reset_batch({0: task})
 
     def act(self, observation) -> int:
-        p = self.policy
-        image = np.asarray(observation["image"], dtype=np.uint8)[None]
-        if not self._first:
-            p.advance(image, np.zeros(1, dtype=bool), count=False)
-        self._first = False
-        eps = np.array([self.epsilon])
+        return self.act_batch({0: observation})[0]
+
+    def start_batch(self, num_slots: int) -> None:
+        self._slots = int(num_slots)
+        self.policy.start(self._slots)
+        self._rngs = [np.random.default_rng(0)] * self._slots  # draws of an idle slot are thrown away
+
+    def reset_batch(self, tasks: dict) -> None:
+        slots = np.array(sorted(tasks), dtype=np.int64)
+        self.policy.begin_episodes(slots, np.array([int(tasks[i].goal) for i in slots], np.int64))
+        for i in slots:
+            self._rngs[i] = tasks[i].rng
+
+    def act_batch(self, observations: dict) -> dict:
+        busy = sorted(observations)
+        images = np.stack([np.asarray(observations[i if i in observations else busy[0]]["image"], dtype=np.uint8)
+                           for i in range(self._slots)])
+        p, rng = self.policy, RowRandom(self._rngs)
+        p.advance(images, np.zeros(self._slots, dtype=bool), count=False)  # a no-op for slots on their first step
+        eps = np.full(self._slots, self.epsilon)
         if p.config.hierarchical:
-            p.select_subgoals(image, eps, self._rng)
-        actions, _ = p.actions(image, eps, self._rng)
-        return int(actions[0])
+            p.select_subgoals(images, eps, rng)
+        actions, _ = p.actions(images, eps, rng)
+        return {i: int(actions[i]) for i in busy}
 
     # -- training ----------------------------------------------------------------------------
     @classmethod
     def train(cls, *, suite: str, out: str | os.PathLike, episodes: int | None = None, seed: int = 0,
               overrides: dict[str, str] | None = None, fresh: bool = False, progress: bool = True,
-              command: str | None = None) -> dict:
+              command: str | None = None, steps: int | None = None) -> dict:
         """Train this agent (the ``objsearch train`` hook). Returns a summary dict."""
         from dataclasses import replace
 
+        from objsearch.eval.suites import suite_world
         from objsearch_agents.gridworld_train import train
 
+        if cls.house is not None and suite_world(suite) == "house":
+            return cls.house.train(suite=suite, out=out, episodes=episodes, seed=seed, overrides=overrides, fresh=fresh,
+                                   progress=progress, command=command, **({"steps": steps} if steps is not None else {}))
+        if steps is not None:
+            raise UserError("grid-world agents train for a number of episodes: pass --episodes, not --steps")
         if suite not in cls.train_suites:
             raise UserError(f"agent trains on suites {', '.join(cls.train_suites)}, not {suite!r}")
         config = replace(cls.config, seed=int(seed)).with_overrides(overrides or {})

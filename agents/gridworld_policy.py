@@ -21,6 +21,7 @@ import torch
 from objsearch_agents.grg import GoalsRelationalGraph
 from objsearch_agents.gridworld_config import GridAgentConfig
 from objsearch_agents.nets import grg_high_net, hdqn_high_net, low_level_net, seeded_init
+from objsearch_agents.rows import rows_of
 
 CENTRE = 3
 
@@ -127,12 +128,14 @@ class GridPolicy:
 
     # -- acting -----------------------------------------------------------------------------
     @torch.no_grad()
-    def select_subgoals(self, images: np.ndarray, epsilon: np.ndarray, rng: np.random.Generator) -> None:
-        """Give a sub-goal to every env that has none (hierarchical agents only)."""
+    def select_subgoals(self, images: np.ndarray, epsilon: np.ndarray, rng) -> None:
+        """Give a sub-goal to every env that has none (hierarchical agents only). ``rng``: a
+        Generator, or an ``objsearch_agents.rows.RowRandom`` with one per row."""
         need = np.flatnonzero(self.subgoal < 0)
         if not len(need):
             return
         imgs, cand = images[need], candidates(images[need])
+        rng = rows_of(rng, need)
         explore = rng.random(len(need)) < epsilon[need]
         noise = rng.random(cand.shape)
         if self.config.method == "hdqn":
@@ -169,7 +172,7 @@ class GridPolicy:
         return q.argmax(axis=1)
 
     @torch.no_grad()
-    def actions(self, images: np.ndarray, epsilon: float | np.ndarray, rng: np.random.Generator) -> tuple[np.ndarray, np.ndarray]:
+    def actions(self, images: np.ndarray, epsilon: float | np.ndarray, rng) -> tuple[np.ndarray, np.ndarray]:
         """Primitive actions of all envs and the low-level inputs they were chosen from.
 
         Flat DQN acts on (obstacles, final-goal channel) with ``epsilon`` per env;

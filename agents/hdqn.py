@@ -6,15 +6,19 @@ from dataclasses import replace
 
 from objsearch_agents.gridworld_agent import GridAgent
 from objsearch_agents.gridworld_config import GridAgentConfig
+from objsearch_agents.house.methods import HDQNHouseAgent
 
 
 class HDQNAgent(GridAgent):
     config = replace(GridAgentConfig(), method="hdqn")
     checkpoint_name = "hdqn"
+    house = HDQNHouseAgent
 
 
 class HDQNGreedyAgent(HDQNAgent):
-    """h-DQN evaluated greedily (epsilon 0)."""
+    """h-DQN evaluated greedily (epsilon 0; grid world only)."""
+
+    house = None
 
     def __init__(self):
         super().__init__(epsilon=0.0)

@@ -14,6 +14,7 @@ from dataclasses import replace
 
 from objsearch_agents.gridworld_agent import GridAgent
 from objsearch_agents.gridworld_config import GridAgentConfig
+from objsearch_agents.house import methods as house_methods
 
 _BASE = replace(GridAgentConfig(), method="hrl_grg")
 
@@ -21,25 +22,31 @@ _BASE = replace(GridAgentConfig(), method="hrl_grg")
 class HRLGRGAgent(GridAgent):
     config = _BASE
     checkpoint_name = "hrl_grg"
+    house = house_methods.HRLGRGHouseAgent
 
 
 class HRLGRGNoRelationAgent(GridAgent):
     config = replace(_BASE, relation=False)
     checkpoint_name = "hrl_grg_no_relation"
+    house = house_methods.HRLGRGNoRelationHouseAgent
 
 
 class HRLGRGNoTerminationAgent(GridAgent):
     config = replace(_BASE, termination=False)
     checkpoint_name = "hrl_grg_no_termination"
+    house = house_methods.HRLGRGNoTerminationHouseAgent
 
 
 class HRLGRGNoHighLevelAgent(GridAgent):
     config = replace(_BASE, high_level=False)
     checkpoint_name = "hrl_grg_no_high_level"
+    house = house_methods.HRLGRGNoHighLevelHouseAgent
 
 
 class HRLGRGGreedyAgent(HRLGRGAgent):
-    """HRL-GRG evaluated greedily (epsilon 0 at both levels)."""
+    """HRL-GRG evaluated greedily (epsilon 0 at both levels; grid world only)."""
+
+    house = None
 
     def __init__(self):
         super().__init__(epsilon=0.0)

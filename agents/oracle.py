@@ -11,14 +11,23 @@ class OracleAgent:
     """Shortest-path actions from the suite's ground truth."""
 
     def reset(self, task: AgentTask) -> None:
-        if task.privileged is None:
-            raise ValueError(f"suite {task.suite!r} gives no ground truth for the oracle")
-        self._plan = list(task.privileged.shortest_path())
-        self._step = 0
+        self.start_batch(1)
+        self.reset_batch({0: task})
 
     def act(self, observation):
-        if self._step >= len(self._plan):
+        return self.act_batch({0: observation})[0]
+
+    # the batched form: one plan per slot
+    def start_batch(self, num_slots: int) -> None:
+        self._plans: list[list] = [[] for _ in range(num_slots)]
+
+    def reset_batch(self, tasks: dict) -> None:
+        for i, task in tasks.items():
+            if task.privileged is None:
+                raise ValueError(f"suite {task.suite!r} gives no ground truth for the oracle")
+            self._plans[i] = list(task.privileged.shortest_path())[::-1]  # next action last
+
+    def act_batch(self, observations: dict) -> dict:
+        if any(not self._plans[i] for i in observations):
             raise RuntimeError("the oracle ran past its shortest path; the episode should have ended")
-        action = self._plan[self._step]
-        self._step += 1
-        return action
+        return {i: self._plans[i].pop() for i in observations}

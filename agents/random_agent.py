@@ -12,3 +12,14 @@ class RandomAgent:
 
     def act(self, observation) -> int:
         return int(self._rng.integers(self._num_actions))
+
+    # the batched form: one (Generator, action count) per slot, drawn as ``act`` draws
+    def start_batch(self, num_slots: int) -> None:
+        self._slots: list = [None] * num_slots
+
+    def reset_batch(self, tasks: dict) -> None:
+        for i, task in tasks.items():
+            self._slots[i] = (task.rng, int(task.action_space.n))
+
+    def act_batch(self, observations: dict) -> dict:
+        return {i: int(self._slots[i][0].integers(self._slots[i][1])) for i in observations}

@@ -4,7 +4,7 @@ objsearch never imports ``objsearch_agents`` (or any agent package) statically. 
 found by name through the registry, like ``objsearch eval`` finds it, and trained through
 its class's hook::
 
-    AgentClass.train(*, suite, out, episodes, seed, overrides, fresh, progress, command) -> dict
+    AgentClass.train(*, suite, out, episodes, seed, overrides, fresh, progress, command[, steps]) -> dict
 
 (``overrides``: the ``--set KEY=VALUE`` pairs, interpreted by the agent's config). An agent
 class without ``train`` cannot be trained here. Re-running the same command resumes the run
@@ -28,6 +28,7 @@ def add_parser(subparsers) -> None:
     parser.add_argument("--agent", required=True, help="registered agent name or package.module:Class")
     parser.add_argument("--suite", default="gridworld", help="suite to train on (default: gridworld)")
     parser.add_argument("--episodes", type=non_negative_int, help="training episodes (default: the agent's, the paper's 100000)")
+    parser.add_argument("--steps", type=non_negative_int, help="house agents: environment steps of the main phase (default: the agent's)")
     parser.add_argument("--seed", type=non_negative_int, default=0, help="run seed (default: 0)")
     parser.add_argument("--out", help="run directory (default: runs/SUITE/AGENT-seedS); an existing run there is resumed")
     parser.add_argument("--set", action="append", type=key_value, default=[], dest="overrides", metavar="KEY=VALUE",
@@ -46,9 +47,10 @@ def run(args: argparse.Namespace) -> int:
         raise UserError(f"agent {args.agent!r} cannot be trained (its class has no train(...) classmethod)")
     out = args.out or f"runs/{args.suite}/{args.agent.replace(':', '.')}-seed{args.seed}"
     command = "objsearch " + " ".join(shlex.quote(a) for a in sys.argv[1:]) if sys.argv[1:2] == ["train"] else None
+    budget = {"episodes": args.episodes} if args.steps is None else {"episodes": args.episodes, "steps": args.steps}
     summary = trainer(
-        suite=args.suite, out=out, episodes=args.episodes, seed=args.seed, overrides=dict(args.overrides),
-        fresh=args.fresh, progress=not args.quiet, command=command,
+        suite=args.suite, out=out, seed=args.seed, overrides=dict(args.overrides), fresh=args.fresh,
+        progress=not args.quiet, command=command, **budget,
     )
     print(f"{args.agent}: {summary.get('finished')} episodes, {summary.get('env_steps')} env steps in {out}", file=sys.stderr)
     return 130 if summary.get("interrupted") else 0

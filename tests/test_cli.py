@@ -102,3 +102,21 @@ def test_maps_without_tasks():
 def test_bad_seeds_are_rejected_by_the_parser():
     out = run("objsearch-eval", "--seeds", "one,two")
     assert out.returncode == 2 and "seeds must be comma-separated integers" in out.stderr
+
+
+def test_failed_episodes_are_reported_first_and_a_run_that_never_ran_exits_non_zero():
+    env = {**os.environ, "PYTHONPATH": str(Path(__file__).parent / "eval")}
+    args = ["--split", "unseen-goals", "--seeds", "1", "--quiet"]
+    out = subprocess.run([str(BIN / "objsearch-eval"), "--agent", "agents_for_tests:BadActionAgent", *args],
+                         capture_output=True, text=True, env=env, timeout=300)
+    assert out.returncode == 1, out.stderr
+    assert out.stderr.startswith("100 of 100 episode(s) failed with an agent error; the first, unseen-goals/seed 1/0: ValueError")
+    assert "every episode failed" in out.stderr
+    some = subprocess.run([str(BIN / "objsearch-eval"), "--agent", "agents_for_tests:RaisingAgent", *args],
+                          capture_output=True, text=True, env=env, timeout=300)
+    assert some.returncode == 0 and some.stderr.startswith("50 of 100 episode(s) failed"), some.stderr
+
+
+def test_an_agent_is_refused_on_a_suite_it_does_not_run_in():
+    out = run("objsearch-eval", "--agent", "a3c", "--suite", "gridworld", "--quiet")
+    assert_clean_error(out, "runs in the house world", "gridworld")

@@ -11,6 +11,21 @@ checkpoint is given, then for every episode ``reset`` followed by ``act`` until 
 ends. An agent must not carry state from one episode into the next (results must not
 depend on episode order or the number of workers), and must draw all its randomness from
 ``task.rng``.
+
+Optional class hooks: ``worlds()`` names the worlds (``gridworld``, ``house``) whose suites
+the agent runs on (the harness refuses other suites before the first episode), and
+``for_suite(suite, checkpoint)`` builds the agent for a suite instead of ``cls()``.
+
+The batched form (``objsearch-eval --batch N``): N episodes run in lockstep in slots
+0..N-1, and an agent that has all three of::
+
+    start_batch(num_slots) -> None                       # once, before the first reset
+    reset_batch(tasks: dict[int, AgentTask]) -> None     # these slots begin an episode
+    act_batch(observations: dict[int, obs]) -> dict[int, action]   # every busy slot
+
+decides for all slots in one call. Each slot's episode must draw from its own
+``task.rng`` exactly as ``reset``/``act`` would, so its record does not depend on N. An
+agent without them gets one instance per slot.
 """
 
 from __future__ import annotations
@@ -54,3 +69,19 @@ class Agent(Protocol):
     def reset(self, task: AgentTask) -> None: ...
 
     def act(self, observation: Any) -> Any: ...
+
+
+def is_batched(agent) -> bool:
+    """Whether ``agent`` has the batched protocol (``start_batch``, ``reset_batch``, ``act_batch``),
+    defined no higher in its class hierarchy than its ``reset`` and ``act``: a subclass that
+    overrides ``act`` but inherits ``act_batch`` is played one instance per slot, so its
+    ``act`` is what runs."""
+    if not all(callable(getattr(agent, name, None)) for name in ("start_batch", "reset_batch", "act_batch")):
+        return False
+    mro = type(agent).__mro__
+
+    def definer(name: str) -> type | None:
+        return next((k for k in mro if name in k.__dict__), None)
+
+    return all(definer(single) is None or issubclass(definer(batch), definer(single))
+               for single, batch in (("act", "act_batch"), ("reset", "reset_batch")))

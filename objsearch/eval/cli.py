@@ -22,6 +22,8 @@ def configure(parser: argparse.ArgumentParser) -> argparse.ArgumentParser:
         "--seeds", type=seed_list, default=PAPER_SEEDS, help="comma-separated evaluation seeds (default: the paper's 1,5,13,45,99)"
     )
     parser.add_argument("--workers", type=positive_int, default=1, help="worker processes; results are identical for any number")
+    parser.add_argument("--batch", type=positive_int, default=1,
+                        help="episodes each worker plays in lockstep (batched agents decide for all in one call); same results")
     parser.add_argument("--checkpoint", help="checkpoint passed to the agent's load()")
     parser.add_argument(
         "--out", help="write the results JSON here; an interrupted run resumes from OUT.partial.jsonl when rerun"
@@ -94,13 +96,17 @@ def run(args: argparse.Namespace) -> int:
     )
     results = evaluate(
         config, workers=args.workers, progress=not args.quiet, executor=args.executor, address=args.address, out=args.out,
-        video_dir=args.video,
+        video_dir=args.video, batch=args.batch,
     )
+    failed = [r for r in results["episodes"] if "error" in r]
+    if failed:  # first, so that a table of failures is never mistaken for a result
+        first = failed[0]
+        print(f"{len(failed)} of {len(results['episodes'])} episode(s) failed with an agent error; the first, "
+              f"{first['split']}/seed {first['seed']}/{first['episode_id']}: {first['error']}", file=sys.stderr)
     print(format_table(results))
-    failed = sum("error" in r for r in results["episodes"])
-    if failed:
-        first = next(r for r in results["episodes"] if "error" in r)
-        print(f"{failed} episode(s) failed with an agent error, e.g. {first['split']}/{first['episode_id']}: {first['error']}", file=sys.stderr)
     if args.out:
         print(f"results written to {args.out}", file=sys.stderr)
+    if failed and len(failed) == len(results["episodes"]):
+        print("every episode failed: this is not a result (exit 1)", file=sys.stderr)
+        return 1
     return 0

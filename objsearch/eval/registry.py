@@ -64,9 +64,36 @@ def resolve_agent(spec: str) -> type:
     return cls
 
 
-def make_agent(spec: str, checkpoint: str | None = None):
-    """Instantiate the agent ``spec`` and load ``checkpoint`` into it if given."""
-    agent = resolve_agent(spec)()
+def check_supports(spec: str, cls: type, suite: str) -> None:
+    """Refuse, before any episode, an agent that declares worlds (``worlds()``) without the
+    suite's world."""
+    from objsearch.eval.suites import suite_world
+
+    worlds = getattr(cls, "worlds", None)
+    if not callable(worlds):
+        return
+    world = suite_world(suite)
+    if world not in worlds():
+        from objsearch.eval.suites import SUITES
+
+        fits = [name for name in SUITES if suite_world(name) in worlds()]
+        raise UserError(f"agent {spec!r} runs in the {' and '.join(worlds())} world(s), not in suite {suite!r} "
+                        f"({world}); suites it supports: {', '.join(fits)}")
+
+
+def make_agent(spec: str, checkpoint: str | None = None, suite: str | None = None):
+    """Instantiate the agent ``spec`` for ``suite`` and load ``checkpoint`` into it if given.
+
+    An agent class may declare ``worlds()`` (the suites' worlds it runs in: checked first)
+    and ``for_suite(suite, checkpoint)`` (builds the agent for that suite, e.g. loading the
+    checkpoint shipped for it); otherwise it is built with ``cls()`` and ``load(checkpoint)``."""
+    cls = resolve_agent(spec)
+    if suite is not None:
+        check_supports(spec, cls, suite)
+        factory = getattr(cls, "for_suite", None)
+        if callable(factory):
+            return factory(suite, checkpoint)
+    agent = cls()
     if checkpoint is not None:
         if not callable(getattr(agent, "load", None)):
             raise UserError(f"agent {spec!r} takes no checkpoint (it has no load(path) method)")

@@ -12,22 +12,17 @@ appended as they complete, and a rerun with the same configuration skips them.
 from __future__ import annotations
 
 import concurrent.futures as cf
-import contextlib
 import json
 import multiprocessing
-import signal
-import threading
-import time
-import zlib
 from dataclasses import asdict, dataclass, field
 from pathlib import Path
 from typing import Callable, Iterable
 
-import numpy as np
 from tqdm import tqdm
 
 from objsearch.errors import UserError
-from objsearch.eval.agent import AgentTask
+from objsearch.eval.episode import episode_rng, run_episode  # noqa: F401  (episode_rng: part of this module's API)
+from objsearch.eval.lockstep import play_lockstep
 from objsearch.eval.registry import make_agent
 from objsearch.eval.suites import Episode, check_splits, make_suite
 
@@ -65,164 +60,85 @@ class EvalConfig:
         return out
 
 
-def episode_rng(seed: int, split: str, episode_id: int) -> np.random.Generator:
-    """The Generator of one (seed, split, episode): independent of run order and workers."""
-    return np.random.default_rng([seed, zlib.crc32(split.encode()), episode_id])
-
-
-class StepTimeLimit(Exception):
-    """An agent call ran past the step time limit."""
-
-
-@contextlib.contextmanager
-def _time_limit(seconds: float | None):
-    """Interrupt the block after ``seconds`` (SIGALRM, main thread only); elsewhere the
-    limit is checked when the call returns."""
-    if seconds is None:
-        yield
-        return
-    use_alarm = threading.current_thread() is threading.main_thread() and hasattr(signal, "setitimer")
-    if use_alarm:
-
-        def on_alarm(signum, frame):
-            raise StepTimeLimit
-
-        previous = signal.signal(signal.SIGALRM, on_alarm)
-        signal.setitimer(signal.ITIMER_REAL, seconds)
-    start = time.monotonic()
-    try:
-        yield
-    finally:
-        if use_alarm:
-            signal.setitimer(signal.ITIMER_REAL, 0)
-            signal.signal(signal.SIGALRM, previous)
-    if time.monotonic() - start > seconds:
-        raise StepTimeLimit
-
-
-def run_episode(
-    agent,
-    env,
-    suite_name: str,
-    split: str,
-    episode: Episode,
-    seed: int,
-    step_time_limit: float | None = None,
-    trajectory: list | None = None,
-) -> dict:
-    """Play one episode and return its record (``error`` is set if the agent failed it).
-
-    With ``trajectory`` (a list), every (observation, info) of the episode is appended to it.
-    """
-    obs, info = env.reset(seed=seed, options={"task": episode.task})
-    if trajectory is not None:
-        trajectory.append((obs, info))
-    if info.get("min_steps", episode.min_steps) != episode.min_steps:
-        raise RuntimeError(f"env and suite disagree on min_steps of {split}/{episode.episode_id}")
-    task = AgentTask(
-        suite=suite_name,
-        split=split,
-        episode_id=episode.episode_id,
-        goal=episode.goal,
-        goal_name=episode.goal_name,
-        observation_space=env.observation_space,
-        action_space=env.action_space,
-        rng=episode_rng(seed, split, episode.episode_id),
-        privileged=episode.privileged,
-    )
-    steps, success, error = 0, False, None
-    try:
-        with _time_limit(step_time_limit):
-            agent.reset(task)
-        while True:
-            with _time_limit(step_time_limit):
-                action = agent.act(obs)
-            if not env.action_space.contains(action):
-                raise ValueError(f"invalid action {action!r} for action space {env.action_space}")
-            obs, _, terminated, truncated, info = env.step(action)
-            steps += 1
-            if trajectory is not None:
-                trajectory.append((obs, info))
-            if terminated or truncated:
-                success = bool(info["success"])
-                break
-    except StepTimeLimit:
-        error = f"step time limit of {step_time_limit:g} s exceeded at step {steps}"
-    except Exception as err:  # the agent's failure is the episode's, not the run's
-        error = f"{type(err).__name__}: {err}"
-    record = {
-        "split": split,
-        "seed": seed,
-        "episode_id": episode.episode_id,
-        "goal": episode.goal_name,
-        "success": success,
-        "steps": steps,
-        "min_steps": episode.min_steps,
-        "task": episode.describe,
-    }
-    if error is not None:
-        record["error"] = error
-    return record
-
-
 class Worker:
     """An agent, a suite and its env: built once per process (or Ray actor), then fed units.
 
     With ``video_dir``, each episode's pictures are written there by the suite's
-    ``write_video(directory, record, episode, trajectory)``."""
+    ``write_video(directory, record, episode, trajectory)``. With ``batch`` > 1, units are
+    played ``batch`` at a time in lockstep (``objsearch.eval.lockstep``), one env per slot."""
 
-    def __init__(self, config: EvalConfig, video_dir: str | None = None):
-        self.config, self.video_dir = config, video_dir
+    def __init__(self, config: EvalConfig, video_dir: str | None = None, batch: int = 1):
+        self.config, self.video_dir, self.batch = config, video_dir, int(batch)
         self.suite = make_suite(config.suite, **config.suite_config)
         self.env = self.suite.make_env()
-        self.agent = make_agent(config.agent, config.checkpoint)
+        self.agent = make_agent(config.agent, config.checkpoint, config.suite)
         self.episodes: dict[str, list[Episode]] = {}
+        self._envs = [self.env]
 
-    def run(self, split: str, seed: int, episode_id: int) -> dict:
+    def episode(self, split: str, episode_id: int) -> Episode:
         if split not in self.episodes:
             self.episodes[split] = self.suite.episodes(split)
-        episode = self.episodes[split][episode_id]
+        return self.episodes[split][episode_id]
+
+    def run(self, split: str, seed: int, episode_id: int) -> dict:
+        episode = self.episode(split, episode_id)
         trajectory = [] if self.video_dir else None
         record = run_episode(self.agent, self.env, self.suite.name, split, episode, seed, self.config.step_time_limit, trajectory)
         if self.video_dir:
             self.suite.write_video(self.video_dir, record, episode, trajectory)
         return record
 
+    def play(self, units: list[Unit]):
+        """Records of ``units`` as they finish: in lockstep if ``batch`` > 1, else one by one."""
+        if self.batch <= 1:
+            yield from (self.run(*unit) for unit in units)
+            return
+        while len(self._envs) < self.batch:
+            self._envs.append(self.suite.make_env())
+        built = iter([self.agent])
+        c = self.config
+        make = lambda: next(built, None) or make_agent(c.agent, c.checkpoint, c.suite)
+        yield from play_lockstep(units, self._envs, make, self.episode, self.suite.name, c.step_time_limit)
+
     def run_chunk(self, units: list[Unit]) -> list[dict]:
-        return [self.run(*unit) for unit in units]
+        return list(self.play(units))
 
 
 _worker: Worker | None = None
 
 
-def _init_worker(config: EvalConfig, video_dir: str | None) -> None:
+def _init_worker(config: EvalConfig, video_dir: str | None, batch: int) -> None:
     global _worker
-    _worker = Worker(config, video_dir)
+    _worker = Worker(config, video_dir, batch)
 
 
 def _run_chunk(units: list[Unit]) -> list[dict]:
     return _worker.run_chunk(units)
 
 
-def _chunks(units: list[Unit], workers: int) -> list[list[Unit]]:
+def _chunks(units: list[Unit], workers: int, batch: int = 1) -> list[list[Unit]]:
     size = max(1, min(50, len(units) // (workers * 4)))
+    if batch > 1:  # a lockstep chunk keeps its slots busy for most of its length
+        size = max(size, 4 * batch)
     return [units[i : i + size] for i in range(0, len(units), size)]
 
 
-def _run_local(config: EvalConfig, units: list[Unit], workers: int, video_dir, done: Callable[[list[dict]], None]) -> None:
+def _run_local(config: EvalConfig, units: list[Unit], workers: int, video_dir, done: Callable[[list[dict]], None],
+               batch: int = 1) -> None:
     if workers <= 1:
-        worker = Worker(config, video_dir)
-        for unit in units:
-            done([worker.run(*unit)])
+        for record in Worker(config, video_dir, batch).play(units):
+            done([record])
         return
     context = multiprocessing.get_context("spawn")  # no fork: torch and EGL dislike it
-    with cf.ProcessPoolExecutor(workers, mp_context=context, initializer=_init_worker, initargs=(config, video_dir)) as pool:
-        for part in pool.map(_run_chunk, _chunks(units, workers)):
+    with cf.ProcessPoolExecutor(workers, mp_context=context, initializer=_init_worker,
+                                initargs=(config, video_dir, batch)) as pool:
+        for part in pool.map(_run_chunk, _chunks(units, workers, batch)):
             done(part)
 
 
 def _run_ray(
-    config: EvalConfig, units: list[Unit], workers: int, address: str | None, video_dir, done: Callable[[list[dict]], None]
+    config: EvalConfig, units: list[Unit], workers: int, address: str | None, video_dir, done: Callable[[list[dict]], None],
+    batch: int = 1,
 ) -> None:
     try:
         import ray
@@ -236,8 +152,8 @@ def _run_ray(
     try:
         if address:
             workers = max(workers, int(ray.cluster_resources().get("CPU", 1)))
-        actors = [ray.remote(num_cpus=1)(Worker).remote(config, video_dir) for _ in range(workers)]
-        chunks = _chunks(units, workers)
+        actors = [ray.remote(num_cpus=1)(Worker).remote(config, video_dir, batch) for _ in range(workers)]
+        chunks = _chunks(units, workers, batch)
         for part in ActorPool(actors).map_unordered(lambda actor, chunk: actor.run_chunk.remote(chunk), chunks):
             done(part)
     finally:
@@ -298,10 +214,12 @@ def run_units(
     partial: PartialResults | None = None,
     progress: bool = True,
     video_dir: str | None = None,
+    batch: int = 1,
 ) -> list[dict]:
     """Run (split, seed, episode_id) units and return their records in the units' order.
 
-    Units already in ``partial`` are not run again; new records are appended to it."""
+    Units already in ``partial`` are not run again; new records are appended to it. With
+    ``batch`` > 1 each worker plays that many episodes in lockstep."""
     if executor not in EXECUTORS:
         raise UserError(f"unknown executor {executor!r}; choose one of {', '.join(EXECUTORS)}")
     finished = {(r["split"], r["seed"], r["episode_id"]): r for r in (partial.records if partial else [])}
@@ -317,9 +235,9 @@ def run_units(
 
     try:
         if todo and executor == "ray":
-            _run_ray(config, todo, workers, address, video_dir, done)
+            _run_ray(config, todo, workers, address, video_dir, done, batch)
         elif todo:
-            _run_local(config, todo, workers, video_dir, done)
+            _run_local(config, todo, workers, video_dir, done, batch)
     finally:
         bar.close()
     return [finished[u] for u in units]
@@ -338,12 +256,14 @@ def evaluate(
     address: str | None = None,
     out: str | Path | None = None,
     video_dir: str | None = None,
+    batch: int = 1,
 ) -> dict:
     """Evaluate ``config.agent`` on ``config.suite`` and return the results dict.
 
     With ``out``, the results JSON is written there; until it is, finished episodes are
     kept in ``<out>.partial.jsonl`` and a rerun of the same configuration resumes from it.
     With ``video_dir``, every episode's pictures are written there (suites that have them).
+    With ``batch`` > 1, each worker plays that many episodes in lockstep (same records).
     """
     from objsearch.eval.results import build_results
     from objsearch.fileio import write_json
@@ -352,7 +272,9 @@ def evaluate(
     splits = check_splits(suite, list(config.splits))
     if video_dir and not hasattr(suite, "write_video"):
         raise UserError(f"--video is not available for suite {config.suite!r} (house suites have it)")
-    make_agent(config.agent, config.checkpoint)  # fail fast on a bad agent, before any worker starts
+    if video_dir and batch > 1:
+        raise UserError("--video records episodes one at a time; drop --batch (or use --batch 1)")
+    make_agent(config.agent, config.checkpoint, config.suite)  # fail fast on a bad agent, before any worker starts
     config = EvalConfig(
         agent=config.agent,
         suite=config.suite,
@@ -365,7 +287,7 @@ def evaluate(
     partial = PartialResults(f"{out}.partial.jsonl", config) if out else None
     try:
         units = plan_units(suite, splits, config.seeds)
-        records = run_units(config, units, workers, executor, address, partial, progress, video_dir)
+        records = run_units(config, units, workers, executor, address, partial, progress, video_dir, batch)
     finally:
         if partial:
             partial.close()

@@ -22,7 +22,7 @@ _GRIDWORLD = {
 
 # Our grid-world entries in the paper's Tables 1 (methods) and 2 (ablations), by submission name.
 PAPER_NAMES = {
-    "random": "Random", "oracle": "Oracle", "dqn": "DQN", "hdqn": "h-DQN", "hrl_grg": "HRL-GRG",
+    "random": "Random", "oracle": "Oracle", "dqn": "DQN", "a3c": "A3C", "hdqn": "h-DQN", "hrl_grg": "HRL-GRG",
     "hrl_grg_no_relation": "HRL-GRG -relation", "hrl_grg_no_termination": "HRL-GRG -termination",
     "hrl_grg_no_high_level": "HRL-GRG -high-level",
 }
@@ -48,12 +48,22 @@ _HOUSE3D = {
     "h-DQN": ((0.77, 0.15), (0.05, 0.00), (0.43, 0.05), (0.28, 0.02)),
     "HRL-GRG": ((0.88, 0.33), (0.79, 0.21), (0.76, 0.20), (0.62, 0.10)),
 }
+HOUSE3D_TABLE = ("random", "dqn", "a3c", "hdqn", "hrl_grg")
+"""The rows of the paper's Table 3 (its "Hrl" is our ``hdqn``), by submission name."""
+PREDICTED_SUFFIX = "_predicted"
+"""A submission ``<name>_predicted`` is ``<name>`` evaluated on the perception network's predictions."""
 HOUSE3D_SPLITS = {
     ("house-single", "seen-goals"): 0,
     ("house-single", "unseen-goals"): 1,
     ("house-multi", "seen-envs"): 2,
     ("house-multi", "unseen-envs"): 3,
 }
+
+
+def paper_house3d(name: str) -> dict[tuple[str, str], tuple] | None:
+    """{(suite, split): (SR, SPL)} the paper's Table 3 reports for an entry of ``HOUSE3D_TABLE``."""
+    values = _HOUSE3D.get(PAPER_NAMES.get(name, ""))
+    return None if values is None else {key: values[i] for key, i in HOUSE3D_SPLITS.items()}
 
 
 def paper_rows(suite: str, split: str) -> list[dict]:

@@ -1,8 +1,9 @@
 """Checking a submission (a results JSON from ``objsearch-eval``) before it is trusted.
 
 A submission passes when its schema version is known, its suite and episode-set version
-are the benchmark's own, every episode of its splits and seeds is present exactly once and
-matches the suite's episode, and its summary equals the one recomputed from its records.
+are the benchmark's own, every episode of its splits and seeds is present exactly once,
+none ended in an agent error, each matches the suite's episode, and its summary equals the
+one recomputed from its records.
 """
 
 from __future__ import annotations
@@ -89,6 +90,11 @@ def check_submission(results: dict) -> list[str]:
             problems.append(f"{len(units)} {label} episode(s), e.g. {shown}")
     if problems:
         return problems
+    failed = [r for r in results["episodes"] if r.get("error")]
+    if failed:
+        first = failed[0]
+        return [f"{len(failed)} episode(s) ended in an agent error, e.g. {first['split']}/seed {first['seed']}/"
+                f"{first['episode_id']}: {first['error']}; a run that did not run is not a result"]
     for r in results["episodes"]:
         ep = episodes[r["split"]][r["episode_id"]]
         where = f"episode {r['split']}/seed {r['seed']}/{r['episode_id']}"

@@ -74,6 +74,22 @@ def episode_task(suite: dict, item: dict) -> HouseTask:
     )
 
 
+def training_houses(suite: dict) -> list[HouseRef]:
+    """The houses agents train on: ``house-single``'s house, ``house-multi``'s seen
+    environments, ``house-gen``'s training houses (never an evaluation-only house)."""
+    if suite["training_houses"]:
+        return [HouseRef(**info) for info in suite["training_houses"].values()]
+    split = "seen-envs" if "seen-envs" in suite["splits"] else next(iter(suite["splits"]))
+    ids = sorted({item["house"] for item in suite["splits"][split]})
+    return [HouseRef(**suite["houses"][house]) for house in ids]
+
+
+def training_targets(suite: dict) -> list[str]:
+    """The target categories agents train on: the suite's seen ones (``house-multi``: its six)."""
+    categories = suite["categories"]
+    return list(categories.get("seen", categories.get("targets", [])))
+
+
 # -- building ---------------------------------------------------------------------------
 def _goal_table(world: World, targets, cache_dir) -> dict[str, list]:
     from objsearch.sim.cache import HouseCache

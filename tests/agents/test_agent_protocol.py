@@ -41,3 +41,12 @@ def test_greedy_variant_and_wrong_checkpoint(tmp_path, task_file):
     make_agent("hdqn", str(tmp_path))  # the matching agent loads it
     with pytest.raises(UserError, match="does not exist"):
         make_agent("dqn", str(tmp_path / "nowhere"))
+
+
+@pytest.mark.parametrize("agent", ["dqn", "hrl_grg"])
+def test_batched_evaluation_gives_the_sequential_records(agent):
+    from objsearch.eval.agent import is_batched
+
+    assert is_batched(make_agent(agent))
+    config = EvalConfig(agent=agent, splits=("unseen-goals",), seeds=(1,))
+    assert evaluate(config, progress=False, batch=64)["episodes"] == evaluate(config, progress=False)["episodes"]

@@ -111,3 +111,32 @@ def test_ctrl_c_checkpoints_and_exits_130(tmp_path):
     rows = list(csv.DictReader(open(out / "log.csv")))
     state = torch.load(out / "state.pt", weights_only=False)
     assert rows and state, "the interrupted run left a resumable checkpoint"
+
+
+def test_house_training_cli_writes_a_checkpoint_that_resumes_and_evaluates(tmp_path, cache_dir):
+    tiny = ["--set", "pretrain_steps=1000", "--set", "num_envs=4", "--set", "log_every=500", "--set", "checkpoint_every=500",
+            "--set", "learning_starts=100", "--set", "update_every=8", "--quiet"]
+    env = dict(os.environ, OMP_NUM_THREADS="1", OBJSEARCH_CACHE=cache_dir)
+
+    def house_train(steps: int):
+        cmd = [sys.executable, "-m", "objsearch.cli", "train", "--agent", "hrl_grg", "--suite", "house-single", "--steps",
+               str(steps), "--out", str(tmp_path / "run"), *tiny]
+        return subprocess.run(cmd, capture_output=True, text=True, env=env, timeout=300)
+
+    first = house_train(1000)
+    assert first.returncode == 0, first.stderr
+    run = tmp_path / "run"
+    for name in ("policy.pt", "grg.npz", "state.pt", "log.csv", "config.json", "command.txt", "pretrain/policy.pt"):
+        assert (run / name).exists(), name
+    assert json.loads((run / "config.json").read_text())["suite"] == "house-single"
+    assert "--suite house-single" in (run / "command.txt").read_text()
+    second = house_train(2000)  # resumes from state.pt
+    assert second.returncode == 0, second.stderr
+    rows = list(csv.DictReader(open(run / "log.csv")))
+    assert [int(r["env_steps"]) for r in rows] == [500, 1000, 1500, 2000]
+    wrong = subprocess.run([sys.executable, "-m", "objsearch.cli", "train", "--agent", "hrl_grg", "--suite", "house-single",
+                            "--episodes", "5", "--out", str(tmp_path / "x"), "--quiet"], capture_output=True, text=True, env=env)
+    assert wrong.returncode == 2 and "pass --steps" in wrong.stderr
+    results = evaluate(EvalConfig(agent="hrl_grg", suite="house-single", splits=("seen-goals",), seeds=(1,), checkpoint=str(run),
+                                  suite_config={"mode": "cached", "cache_dir": cache_dir, "max_steps": 20}), progress=False, batch=16)
+    assert not any("error" in r for r in results["episodes"])

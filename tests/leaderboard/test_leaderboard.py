@@ -49,6 +49,8 @@ def tampered(results, change):
         (lambda r: r["episodes"][0].update(min_steps=1), "does not match the suite's episode"),
         (lambda r: next(e for e in r["episodes"] if e["success"] and e["min_steps"] > 1).update(steps=1, spl=1.0), "fewer than the minimal"),
         (lambda r: r.pop("config"), "missing field(s) config"),
+        (lambda r: [e.update(error="KeyError: 'image'", success=False, spl=0.0) for e in r["episodes"][:5]],
+         "5 episode(s) ended in an agent error, e.g. unseen-goals/seed 1/0: KeyError: 'image'"),
     ],
 )
 def test_tampered_submissions_are_rejected(random_results, change, message):
@@ -121,7 +123,10 @@ def test_pages_come_from_the_stored_submissions_alone(tmp_path, oracle_results):
     assert first == {p: (tmp_path / p).read_text() for p in pages}
     tables = first["paper_tables.md"]  # Tables 1 and 2: ours in bold, the paper's in brackets
     assert "| Oracle | not run (1.00) | not run (1.00) | not run (11.81 / 11.81) | **1.00** (1.00) | **1.00** (1.00) |" in tables
-    assert "| HRL-GRG | not run (0.57) | not run (0.33) |" in tables and tables.count("| HRL-GRG |") == 2
+    assert "| HRL-GRG | not run (0.57) | not run (0.33) |" in tables
+    # Table 3 (House3D): SR / SPL per suite split, a gt and a predicted row per learned method
+    assert "| HRL-GRG | gt | not run (0.88 / 0.33) | not run (0.79 / 0.21) |" in tables
+    assert "| HRL-GRG | predicted | not run | not run |" in tables and tables.count("| HRL-GRG |") == 4
 
 
 def test_rows_say_whether_the_agent_saw_ground_truth_or_predictions(oracle_results):

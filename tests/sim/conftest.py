@@ -13,9 +13,3 @@ def small_house() -> HouseRef:
 @pytest.fixture(scope="session")
 def small_world():
     return World.load(SMALL_HOUSE)
-
-
-@pytest.fixture(scope="session")
-def cache_dir(tmp_path_factory):
-    """One observation cache for the whole test session (building one takes seconds)."""
-    return str(tmp_path_factory.mktemp("objsearch-cache"))

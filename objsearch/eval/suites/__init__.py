@@ -7,7 +7,8 @@ A suite provides:
 * ``make_env() -> gymnasium.Env`` whose ``reset(options={"task": episode.task})`` starts
   the episode and whose ``info["success"]`` says whether it ended in success (the one
   definition of success, owned by the env);
-* ``config() -> dict``: the arguments that rebuild it (``make_suite(name, **config)``).
+* ``config() -> dict``: the arguments that rebuild it (``make_suite(name, **config)``);
+* ``world``: ``gridworld`` or ``house``, the world agents declare they run in.
 
 Suites are looked up lazily by name in ``SUITES``.
 """
@@ -28,6 +29,13 @@ SUITES = {
     "house-gen": "objsearch.eval.suites.house:HouseGenSuite",
 }
 DEFAULT_SUITE = "gridworld"
+WORLDS = ("gridworld", "house")
+
+
+def suite_world(name: str) -> str:
+    """The world a suite's episodes play in, ``gridworld`` or ``house``: its class's
+    ``world`` (agents declare the worlds they run in with ``worlds()``)."""
+    return suite_class(name).world
 
 
 @dataclass(frozen=True)
@@ -52,14 +60,19 @@ class Episode:
     privileged: Any = field(default=None, repr=False, compare=False)
 
 
-def make_suite(name: str, **config):
-    """Build the suite ``name`` with its config (e.g. ``maps``/``tasks`` for the grid world)."""
+def suite_class(name: str) -> type:
+    """The class of the suite ``name`` (imported on demand)."""
     if name not in SUITES:
         close = difflib.get_close_matches(name, list(SUITES), n=1)
         hint = f"did you mean {close[0]!r}? " if close else ""
         raise UserError(f"unknown suite {name!r}; {hint}known suites: {', '.join(SUITES)}")
     module_name, _, cls_name = SUITES[name].partition(":")
-    return getattr(importlib.import_module(module_name), cls_name)(**config)
+    return getattr(importlib.import_module(module_name), cls_name)
+
+
+def make_suite(name: str, **config):
+    """Build the suite ``name`` with its config (e.g. ``maps``/``tasks`` for the grid world)."""
+    return suite_class(name)(**config)
 
 
 def check_splits(suite, splits: list[str] | None) -> list[str]:

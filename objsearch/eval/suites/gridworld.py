@@ -37,6 +37,8 @@ class GridWorldSuite:
         max_steps: step limit per episode (the paper's 100).
     """
 
+    world = "gridworld"
+
     name = "gridworld"
 
     def __init__(self, maps: str | None = None, tasks: str | None = None, max_steps: int = 100):

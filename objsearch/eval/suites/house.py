@@ -42,6 +42,7 @@ class HouseSuite:
     key: results record it, so a resumed or validated run uses the same network)."""
 
     name = ""
+    world = "house"
 
     def __init__(self, mode: str = "cached", cache_dir: str | None = None, max_steps: int | None = None,
                  observation: str = "gt", perception: str | None = None, perception_key: str | None = None):

@@ -1,0 +1,158 @@
+"""The house agents behind the evaluation protocol, and their ``train`` hook.
+
+``HouseAgent`` wraps ``HousePolicy`` with N = 1. It is built for a suite
+(``for_suite(suite, checkpoint)``): with no checkpoint it loads the one shipped for that
+(suite, agent) pair in ``agents/checkpoints/<suite>/<agent>/``, and a missing pair is an
+error that names the training command. ``act(obs)`` turns the env's 64x64 frame into the
+same 10x10 tables training used (``ObservationTables.from_frames``), keeps the last 4,
+ends or continues the current option, picks a sub-goal if needed and an action.
+Evaluation explores as the authors evaluated: actor-critics sample from their policy,
+Q-learning levels take a random choice with probability ``eps_end`` (0.1).
+"""
+
+from __future__ import annotations
+
+import os
+from pathlib import Path
+
+import numpy as np
+
+from objsearch.errors import UserError
+from objsearch.sim.goals import GOAL_CAMERA
+from objsearch_agents.house.config import HouseAgentConfig
+from objsearch_agents.house.policy import HousePolicy
+from objsearch_agents.rows import RowRandom
+from objsearch_agents.house.tables import HISTORY, ObservationTables
+
+CHECKPOINTS = Path(__file__).resolve().parent.parent / "checkpoints"
+POLICY_KIND = "objsearch-house-policy"
+
+
+def default_checkpoint(suite: str, name: str) -> Path | None:
+    path = CHECKPOINTS / suite / name / "policy.pt"
+    return path if path.exists() else None
+
+
+class HouseAgent:
+    """A house agent from a ``HouseAgentConfig`` (subclasses set ``config``)."""
+
+    config = HouseAgentConfig()
+
+    @classmethod
+    def worlds(cls) -> tuple[str, ...]:
+        return ("house",)
+
+    def __init__(self, suite: str = "house-single", checkpoint: str | os.PathLike | None = None):
+        import torch
+
+        torch.set_num_threads(1)  # batch-1 forwards of small networks: extra threads only contend
+        self.suite = suite
+        self.loaded_from: str | None = None
+        path = checkpoint if checkpoint is not None else default_checkpoint(suite, self.config.name)
+        if path is None:
+            name = self.config.name
+            raise UserError(f"no {name} checkpoint is shipped for suite {suite!r}; train one with "
+                            f"`objsearch train --agent {name} --suite {suite}` and pass "
+                            f"--checkpoint runs/{suite}/{name}-seed0")
+        self.load(path)
+
+    @classmethod
+    def for_suite(cls, suite: str, checkpoint: str | os.PathLike | None = None) -> "HouseAgent":
+        return cls(suite, checkpoint)
+
+    # -- checkpoints ------------------------------------------------------------------------
+    def load(self, path: str | os.PathLike) -> None:
+        """Load ``policy.pt`` (or a run directory holding it) and ``grg.npz`` beside it."""
+        from objsearch_agents.grg import GoalsRelationalGraph
+        from objsearch_agents.house.train import GRG_FILE, POLICY_FILE, load_checkpoint_file
+
+        path = Path(path)
+        if path.is_dir():
+            path = path / POLICY_FILE
+        if not path.exists():
+            raise UserError(f"checkpoint {path} does not exist; pass a policy.pt or a training run directory")
+        state = load_checkpoint_file(path)
+        if not isinstance(state, dict) or state.get("kind") != POLICY_KIND:
+            raise UserError(f"checkpoint {path} is not a house agent's policy.pt (a grid-world or other file?); "
+                            "pass one written by objsearch train --suite house-...")
+        saved = HouseAgentConfig.from_json(state["config"])
+        if saved.name != self.config.name:
+            raise UserError(f"checkpoint {path} was trained as {saved.name}, not {self.config.name}; pick --agent {saved.name}")
+        if saved.suite != self.suite:
+            raise UserError(f"checkpoint {path} was trained on suite {saved.suite}, not {self.suite}; "
+                            f"evaluate it with --suite {saved.suite} or pass a checkpoint trained on {self.suite}")
+        camera = state.get("camera")
+        if camera != GOAL_CAMERA.to_dict():
+            raise UserError(f"checkpoint {path} was trained with camera {camera}; the house suites' camera is {GOAL_CAMERA.to_dict()}")
+        self.policy = HousePolicy(saved)
+        if self.policy.ac is not None:
+            self.policy.ac.load_state_dict(state["ac"])
+        if self.policy.q is not None:
+            self.policy.q.load_state_dict(state["q"])
+        if self.policy.grg is not None:
+            self.policy.grg = GoalsRelationalGraph.load(path.parent / GRG_FILE)
+            self.policy.refresh_plans()
+        self.loaded_from = str(path)
+
+    # -- the protocol (one episode, or N in lockstep: the same code) -------------------------
+    def reset(self, task) -> None:
+        self.start_batch(1)
+        self.reset_batch({0: task})
+
+    def act(self, observation) -> int:
+        return self.act_batch({0: observation})[0]
+
+    def start_batch(self, num_slots: int) -> None:
+        self._slots = int(num_slots)
+        self.policy.start(self._slots)
+        idle = np.random.default_rng(0)  # draws of an idle slot are thrown away
+        self._rngs = [idle] * self._slots
+        self._frames: list[list | None] = [None] * self._slots
+        self.epsilon = np.full(self._slots, self.policy.config.eps_end)
+
+    def reset_batch(self, tasks: dict) -> None:
+        slots = np.array(sorted(tasks), dtype=np.int64)
+        self.policy.begin_episodes(slots, np.array([int(tasks[i].goal) for i in slots], np.int64))
+        for i in slots:
+            self._rngs[i], self._frames[i] = tasks[i].rng, None
+
+    def act_batch(self, observations: dict) -> dict:
+        busy = sorted(observations)
+        for i in busy:
+            obs = observations[i]
+            if not isinstance(obs, dict) or not {"semantic", "depth"} <= set(obs):
+                raise TypeError("a house agent needs the house env's observation (semantic, depth, target)")
+            frame = ObservationTables.from_frames(np.asarray(obs["semantic"])[None], np.asarray(obs["depth"])[None])
+            # the last 4 frames, oldest first; an episode's first frame fills the history
+            self._frames[i] = [frame] * HISTORY if self._frames[i] is None else self._frames[i][1:] + [frame]
+        rows = [self._frames[i] if i in observations else self._frames[busy[0]] for i in range(self._slots)]
+        tables = ObservationTables.concat([f for row in rows for f in row])
+        hist = np.arange(self._slots * HISTORY).reshape(self._slots, HISTORY)
+        rng = RowRandom(self._rngs)
+        p = self.policy
+        p.advance(tables, hist, np.zeros(self._slots, bool), count=False)  # no-op for slots on their first step
+        if p.config.hierarchical:
+            p.select_subgoals(tables, hist, self.epsilon, rng)
+        actions = p.actions(tables, hist, self.epsilon, rng)
+        return {i: int(actions[i]) for i in busy}
+
+    # -- training -----------------------------------------------------------------------------
+    @classmethod
+    def train(cls, *, suite: str, out: str | os.PathLike, episodes: int | None = None, steps: int | None = None,
+              seed: int = 0, overrides: dict[str, str] | None = None, fresh: bool = False, progress: bool = True,
+              command: str | None = None) -> dict:
+        """Train this agent on a house suite's training houses (the ``objsearch train`` hook)."""
+        from dataclasses import replace
+
+        if episodes is not None:
+            raise UserError("house agents train for a number of environment steps: pass --steps, not --episodes")
+
+        from objsearch_agents.house.train import train
+
+        config = replace(cls.config, seed=int(seed), suite=suite).with_overrides(overrides or {})
+        if steps is not None:
+            config = replace(config, steps=int(steps))
+        run = train(config, out, progress=progress, fresh=fresh, command=command)
+        k = run.counters
+        return {"out": str(out), "finished": k["finished"], "env_steps": k["env_steps"], "interrupted": run.interrupted,
+                "wall_s": k["wall_s"]}

@@ -1,0 +1,122 @@
+"""The one configuration of the house agents (A3C, DQN, h-DQN, HRL-GRG and its ablations):
+the paper's protocol (appendix B.3, table 9) plus the facts of the authors' code, with the
+deviations of ``docs/house_agents.md``. Written as ``config.json`` beside every checkpoint."""
+
+from __future__ import annotations
+
+import dataclasses
+from dataclasses import dataclass, fields
+
+from objsearch.configs import require_at_least, typed_field
+from objsearch.errors import UserError
+
+METHODS = ("a3c", "dqn", "hdqn", "hrl_grg")
+
+
+@dataclass(frozen=True)
+class HouseAgentConfig:
+    method: str = "hrl_grg"
+    """``a3c`` (actor-critic on the target), ``dqn``, ``hdqn`` (DQN over sub-goals, A3C low level) or ``hrl_grg``."""
+    relation: bool = True
+    """hrl_grg: weight the candidate's mask by its plan value C(sg -> g) (False: the "-relation" ablation)."""
+    termination: bool = True
+    """hrl_grg: end an option when a later node of its plan comes into view (False: "-termination")."""
+    high_level: bool = True
+    """hrl_grg: choose sub-goals with the network (False: "-high-level", the best plan value)."""
+    suite: str = "house-single"
+    """The suite whose training houses and seen targets the agent trains on."""
+    observation: str = "gt"
+    """``gt`` or ``predicted`` (the shipped perception network's segmentation and depth)."""
+    seed: int = 0
+    """Seeds the networks, task sampling, exploration and replay sampling."""
+    steps: int = 10_000_000
+    """Environment steps of the main phase (summed over the parallel envs)."""
+    num_envs: int = 32
+    """Episodes run in parallel (one forward pass per level per step for all)."""
+    max_steps: int = 1000
+    """Primitive steps per episode (N_max)."""
+    option_steps: int = 50
+    """Low-level steps per sub-goal at most (N_max^l); also the GRG's number of 'seen after k' categories."""
+    gamma: float = 0.99
+    """Discount of every learner."""
+    grg_gamma: float = 0.99
+    """Discount of the GRG's event values gamma^(k-1)."""
+    lr: float = 1e-4
+    """RMSProp learning rate of the Q-networks."""
+    ac_lr: float = 5e-4
+    """RMSProp learning rate of the actor-critics (batched A2C: one update per rollout of all envs)."""
+    rmsprop_alpha: float = 0.99
+    """RMSProp decay (TensorFlow 1's default)."""
+    rmsprop_eps: float = 1e-5
+    """RMSProp epsilon."""
+    max_grad_norm: float = 40.0
+    """Gradients are clipped to this global norm."""
+    entropy: float = 0.01
+    """Entropy bonus of the actor-critic loss (beta)."""
+    rollout: int = 10
+    """Actor-critic update interval: n-step rollouts of this many steps (A3C_update)."""
+    batch_size: int = 64
+    """Transitions per Q-network update."""
+    replay_size: int = 10_000
+    """Replay memory of a Q-network (transitions, stored as pose ids)."""
+    update_every: int = 100
+    """One Q-network update every this many environment transitions (summed over the envs; main_update)."""
+    target_update: int = 100_000
+    """Hard copy of online into target Q-networks every this many environment transitions."""
+    learning_starts: int = 1_000
+    """Transitions a replay memory must hold before its network is updated."""
+    eps_start: float = 1.0
+    """Initial exploration rate of the Q-learning level."""
+    eps_end: float = 0.1
+    """Final exploration rate (also used at evaluation, as the authors evaluated)."""
+    eps_anneal_episodes: int = 10_000
+    """Episodes over which exploration falls linearly from eps_start to eps_end."""
+    curriculum_episodes: int = 10_000
+    """Episode i starts among the nearest max(1, N * min((i + 10) / this, 1)) start poses."""
+    pretrain_steps: int = 4_000_000
+    """Environment steps of the approach pretraining of the actor-critic (0: none)."""
+    pretrained: str = ""
+    """A ``policy.pt`` whose actor-critic starts this run (empty: pretrain in ``OUT/pretrain``)."""
+    train_low: bool = False
+    """Hierarchical methods: keep training the low level on the intrinsic reward (False: frozen pretrained)."""
+    plan_every: int = 10
+    """hrl_grg: re-plan the GRG every this many batched steps (the reference: once per episode)."""
+    checkpoint_every: int = 500_000
+    """Write a resumable checkpoint every this many environment steps."""
+    log_every: int = 100_000
+    """Append a row to ``log.csv`` every this many environment steps."""
+
+    def __post_init__(self):
+        if self.method not in METHODS:
+            raise UserError(f"method must be one of {METHODS}, not {self.method!r}")
+        if self.observation not in ("gt", "predicted"):
+            raise UserError(f"observation must be gt or predicted, not {self.observation!r}")
+        require_at_least(self, ("num_envs", "max_steps", "option_steps", "batch_size", "replay_size", "update_every",
+                                "target_update", "rollout", "eps_anneal_episodes", "curriculum_episodes",
+                                "plan_every", "checkpoint_every", "log_every"), 1)
+
+    @property
+    def hierarchical(self) -> bool:
+        return self.method in ("hdqn", "hrl_grg")
+
+    @property
+    def name(self) -> str:
+        """The agent name this config trains (``hrl_grg_no_relation`` for an ablation)."""
+        if self.method != "hrl_grg":
+            return self.method
+        return "hrl_grg" + "".join(f"_no_{n}" for n in ("relation", "termination", "high_level") if not getattr(self, n))
+
+    def to_json(self) -> dict:
+        return dataclasses.asdict(self)
+
+    @classmethod
+    def from_json(cls, data: dict) -> "HouseAgentConfig":
+        known = {f.name for f in fields(cls)}
+        unknown = sorted(set(data) - known)
+        if unknown:
+            raise UserError(f"house agent config has unknown fields {', '.join(unknown)}; was it written by a newer objsearch?")
+        return cls(**data)
+
+    def with_overrides(self, overrides: dict[str, str]) -> "HouseAgentConfig":
+        """A copy with fields set from ``KEY=VALUE`` strings (``--set``), typed like the defaults."""
+        return dataclasses.replace(self, **{key: typed_field(self, key, text) for key, text in overrides.items()})

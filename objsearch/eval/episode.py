@@ -1,0 +1,126 @@
+"""Playing one episode: the agent's task, its random Generator, the per-call time limit
+and the episode's record (shared by the sequential and the lockstep runs)."""
+
+from __future__ import annotations
+
+import contextlib
+import signal
+import threading
+import time
+import zlib
+
+import numpy as np
+
+from objsearch.eval.agent import AgentTask
+from objsearch.eval.suites import Episode
+
+
+def episode_rng(seed: int, split: str, episode_id: int) -> np.random.Generator:
+    """The Generator of one (seed, split, episode): independent of run order and workers."""
+    return np.random.default_rng([seed, zlib.crc32(split.encode()), episode_id])
+
+
+class StepTimeLimit(Exception):
+    """An agent call ran past the step time limit."""
+
+
+@contextlib.contextmanager
+def time_limit(seconds: float | None):
+    """Interrupt the block after ``seconds`` (SIGALRM, main thread only); elsewhere the
+    limit is checked when the call returns."""
+    if seconds is None:
+        yield
+        return
+    use_alarm = threading.current_thread() is threading.main_thread() and hasattr(signal, "setitimer")
+    if use_alarm:
+
+        def on_alarm(signum, frame):
+            raise StepTimeLimit
+
+        previous = signal.signal(signal.SIGALRM, on_alarm)
+        signal.setitimer(signal.ITIMER_REAL, seconds)
+    start = time.monotonic()
+    try:
+        yield
+    finally:
+        if use_alarm:
+            signal.setitimer(signal.ITIMER_REAL, 0)
+            signal.signal(signal.SIGALRM, previous)
+    if time.monotonic() - start > seconds:
+        raise StepTimeLimit
+
+
+def run_episode(
+    agent,
+    env,
+    suite_name: str,
+    split: str,
+    episode: Episode,
+    seed: int,
+    step_time_limit: float | None = None,
+    trajectory: list | None = None,
+) -> dict:
+    """Play one episode and return its record (``error`` is set if the agent failed it).
+
+    With ``trajectory`` (a list), every (observation, info) of the episode is appended to it.
+    """
+    obs, task = start_episode(env, suite_name, split, episode, seed, trajectory)
+    steps, success, error = 0, False, None
+    try:
+        with time_limit(step_time_limit):
+            agent.reset(task)
+        while True:
+            with time_limit(step_time_limit):
+                action = agent.act(obs)
+            if not env.action_space.contains(action):
+                raise ValueError(f"invalid action {action!r} for action space {env.action_space}")
+            obs, _, terminated, truncated, info = env.step(action)
+            steps += 1
+            if trajectory is not None:
+                trajectory.append((obs, info))
+            if terminated or truncated:
+                success = bool(info["success"])
+                break
+    except StepTimeLimit:
+        error = f"step time limit of {step_time_limit:g} s exceeded at step {steps}"
+    except Exception as err:  # the agent's failure is the episode's, not the run's
+        error = f"{type(err).__name__}: {err}"
+    return episode_record(split, seed, episode, success, steps, error)
+
+
+def start_episode(env, suite_name: str, split: str, episode: Episode, seed: int, trajectory: list | None = None):
+    """Reset ``env`` to the episode; returns (first observation, the agent's ``AgentTask``)."""
+    obs, info = env.reset(seed=seed, options={"task": episode.task})
+    if trajectory is not None:
+        trajectory.append((obs, info))
+    if info.get("min_steps", episode.min_steps) != episode.min_steps:
+        raise RuntimeError(f"env and suite disagree on min_steps of {split}/{episode.episode_id}")
+    task = AgentTask(
+        suite=suite_name,
+        split=split,
+        episode_id=episode.episode_id,
+        goal=episode.goal,
+        goal_name=episode.goal_name,
+        observation_space=env.observation_space,
+        action_space=env.action_space,
+        rng=episode_rng(seed, split, episode.episode_id),
+        privileged=episode.privileged,
+    )
+    return obs, task
+
+
+def episode_record(split: str, seed: int, episode: Episode, success: bool, steps: int, error: str | None) -> dict:
+    """The record of one played episode (``error`` set if the agent failed it)."""
+    record = {
+        "split": split,
+        "seed": seed,
+        "episode_id": episode.episode_id,
+        "goal": episode.goal_name,
+        "success": success,
+        "steps": steps,
+        "min_steps": episode.min_steps,
+        "task": episode.describe,
+    }
+    if error is not None:
+        record["error"] = error
+    return record

@@ -1,0 +1,242 @@
+"""The house agents: observation tables, the GRG counted in 3D, learning, exact resume,
+the shipped checkpoints and bad input."""
+
+from dataclasses import replace
+
+import numpy as np
+import pytest
+import torch
+
+from objsearch.errors import UserError
+from objsearch.house.categories import CATEGORY_IDS, FIRST_OBJECT_ID
+from objsearch.sim.env import HouseEnv
+from objsearch.sim.goals import GOAL_CAMERA
+from objsearch.sim.world import HouseRef
+from objsearch.sim.wrappers import FrameHistory, TargetMaskDepth
+from objsearch_agents.house.agent import CHECKPOINTS
+from objsearch_agents.house.config import HouseAgentConfig
+from objsearch_agents.house.episodes import EpisodeBatch, TrainingHouses
+from objsearch_agents.house.nets import CategoryQ
+from objsearch_agents.house.policy import NUM_NODES, HousePolicy, category_input, sample_actions
+from objsearch_agents.house.tables import NUM_CATEGORIES, ObservationTables, house_tables
+from objsearch_agents.house.train import HouseTrainRun, save_policy
+
+SMALL = HouseRef(seed=3)  # ~1700 poses
+TARGETS = ["bed", "sofa", "toilet", "fridge", "tv", "bathtub", "wardrobe", "nightstand"]
+
+
+@pytest.fixture(scope="module")
+def houses(cache_dir):
+    return TrainingHouses([SMALL], TARGETS, cache_dir, progress=False)
+
+
+def test_tables_equal_the_wrappers(cache_dir):
+    env = HouseEnv([SMALL], mode="cached", cache_dir=cache_dir)
+    wrapped = FrameHistory(TargetMaskDepth(env), 4)
+    task = env.sample_task(np.random.default_rng(0))
+    world = env.world(task.house)
+    tables = house_tables(env._source(world), world.graph.next_pose)
+    target = CATEGORY_IDS[task.target]
+    obs, info = wrapped.reset(options={"task": task})
+    hist = [world.graph.pose_id(*info["pose"])] * 4
+    rng = np.random.default_rng(1)
+    frames = []
+    for step in range(40):
+        raw = env._observe()
+        frames = [raw] * 4 if not frames else frames[1:] + [raw]
+        from_frames = ObservationTables.concat(
+            [ObservationTables.from_frames(f["semantic"][None], f["depth"][None]) for f in frames])
+        for t in (tables, from_frames):
+            poses = np.array([hist]) if t is tables else np.arange(4)[None]
+            assert np.array_equal(t.masks(poses, np.array([target]))[0], obs[:, 0])
+            assert np.array_equal(t.depth[poses][0], obs[:, 1])
+        obs, _, terminated, truncated, info = wrapped.step(int(rng.integers(6)))
+        assert tables.next_pose[hist[-1]].tolist() == world.graph.next_pose[hist[-1], :6].tolist()
+        hist = hist[1:] + [world.graph.pose_id(*info["pose"])]
+        if terminated or truncated:
+            break
+    env.close()
+
+
+def test_tables_are_stored_beside_the_cache_and_reread(cache_dir):
+    env = HouseEnv([SMALL], mode="cached", cache_dir=cache_dir)
+    world = env.world(env.sample_task(np.random.default_rng(0)).house)
+    source = env._source(world)
+    first = house_tables(source, world.graph.next_pose)
+    assert (source.directory / "tables-v1.npz").exists()
+    again = ObservationTables.load(source.directory / "tables-v1.npz")
+    assert all(np.array_equal(getattr(first, k), getattr(again, k)) for k in ("depth", "mask_rows", "slot", "near"))
+    env.close()
+
+
+def test_compact_category_input_equals_the_per_pixel_linear_map(houses):
+    net = CategoryQ(NUM_CATEGORIES, 6)
+    hist = np.random.default_rng(0).integers(houses.tables.num_poses, size=(8, 4))
+    cats, masks, depth, onehot = category_input(houses.tables, hist, np.full(8, CATEGORY_IDS["bed"]))
+    dense = torch.from_numpy(houses.tables.all_masks(hist))  # (N, 4, C, 10, 10)
+    seg = (dense * net.pixel.weight[0][None, None, :, None, None]).sum(2) + net.pixel.bias
+    expected = net.out(net.body(seg, depth, onehot))
+    assert torch.allclose(net(cats, masks, depth, onehot), expected, atol=1e-5)
+
+
+def synthetic_tables(frames: list[dict[int, int]]) -> ObservationTables:
+    """One pose per frame; each frame shows categories {id: pixels} far away."""
+    semantic = np.full((len(frames), 64, 64), CATEGORY_IDS["floor"], np.uint8)
+    for p, shown in enumerate(frames):
+        row = 0
+        for cid, pixels in shown.items():
+            flat = semantic[p].reshape(-1)
+            flat[row : row + pixels] = cid
+            row += pixels
+    return ObservationTables.from_frames(semantic, np.full((len(frames), 64, 64), 5.0, np.float32))
+
+
+def test_grg_counts_first_sightings_in_3d_by_hand():
+    bed, lamp, tv, sofa = (CATEGORY_IDS[c] for c in ("bed", "floor_lamp", "tv", "sofa"))
+    # poses 0..3: the option's start, then three steps: lamp first seen at step 1, tv at
+    # step 3 (the lamp again: not counted twice); sofa is too small to count as seen.
+    tables = synthetic_tables([{}, {lamp: 40}, {lamp: 40, sofa: 5}, {tv: 30}])
+    config = replace(HouseAgentConfig(), method="hrl_grg", termination=False, option_steps=3)
+    policy = HousePolicy(config)
+    policy.start(1)
+    policy.begin_episodes(np.array([0]), np.array([sofa]))
+    policy.subgoal[0] = bed - FIRST_OBJECT_ID
+    hist = np.zeros((1, 4), np.int64)
+    for pose in (1, 2, 3):
+        hist = np.concatenate([hist[:, 1:], [[pose]]], axis=1)
+        ended = policy.advance(tables, hist, np.zeros(1, bool), count=True)
+    assert ended[0] and policy.subgoal[0] == -1  # 3 steps: the option's limit
+    counts = policy.grg.counts[bed - FIRST_OBJECT_ID]
+    node = lambda cid: cid - FIRST_OBJECT_ID
+    assert counts[node(lamp), 0] == 1 and counts[node(lamp)].sum() == 1  # first seen after 1 step
+    assert counts[node(tv), 2] == 1 and counts[node(tv)].sum() == 1  # after 3 steps
+    assert counts[node(sofa), 3] == 1 and counts[node(sofa)].sum() == 1  # never seen: "not seen"
+    assert counts.sum() == NUM_NODES - 1  # every object node counted once, the random node never
+    weights = policy.grg.edge_weights()
+    assert weights[node(bed), node(lamp)] == pytest.approx(0.5)  # posterior (1 seen-after-1, 1 prior not-seen)
+    assert weights[node(bed), node(tv)] == pytest.approx(0.5 * 0.99 ** 2)
+
+
+def test_plan_termination_ends_an_option_when_a_later_plan_node_is_seen():
+    bed, lamp, sofa = (CATEGORY_IDS[c] for c in ("bed", "floor_lamp", "sofa"))
+    tables = synthetic_tables([{}, {sofa: 30}])
+    policy = HousePolicy(replace(HouseAgentConfig(), method="hrl_grg"))
+    policy.grg.add_counts(lamp - FIRST_OBJECT_ID, sofa - FIRST_OBJECT_ID, 0, 10)  # lamp leads to sofa
+    policy.refresh_plans()
+    policy.start(1)
+    policy.begin_episodes(np.array([0]), np.array([sofa]))
+    policy.subgoal[0] = lamp - FIRST_OBJECT_ID
+    ended = policy.advance(tables, np.array([[0, 0, 0, 1]]), np.zeros(1, bool), count=False)
+    assert ended[0]  # the sofa, after the lamp on its plan, came into view
+
+
+def approach_success(houses, act, episodes=256, max_steps=30, seed=5) -> float:
+    """Success within ``max_steps`` from the nearest approach starts (a trivial task)."""
+    rng = np.random.default_rng(seed)
+    batch = EpisodeBatch(houses, episodes, max_steps)
+    pairs, starts = houses.sample("approach", np.zeros(episodes, np.int64), 1000, rng)
+    batch.start(np.arange(episodes), pairs, starts)
+    alive, won = np.ones(episodes, bool), np.zeros(episodes, bool)
+    for _ in range(max_steps):
+        success, truncated = batch.step(act(batch, rng))
+        won |= success & alive
+        alive &= ~(success | truncated)
+    return float(won.mean())
+
+
+def test_a3c_learns_to_approach_and_beats_random(houses, tmp_path):
+    torch.set_num_threads(1)
+    config = replace(HouseAgentConfig(), method="a3c", num_envs=32, max_steps=30, steps=150_000, ac_lr=1e-3,
+                     curriculum_episodes=1000, checkpoint_every=10**9, log_every=50_000)
+    run = HouseTrainRun(config, tmp_path, houses, pool="approach")
+    run.begin()
+    run.run(progress=False)
+    policy = run.policy
+
+    def learned(batch, rng):
+        from objsearch_agents.house.policy import _t, low_input
+
+        with torch.no_grad():
+            logits, _ = policy.ac(*map(_t, low_input(houses.tables, batch.hist, batch.target)))
+        return sample_actions(logits, rng)
+
+    rand = approach_success(houses, lambda b, rng: rng.integers(6, size=len(b.pose)))
+    mine = approach_success(houses, learned)
+    assert mine > rand + 0.2, (mine, rand)
+
+
+@pytest.mark.parametrize("method", ["a3c", "dqn", "hrl_grg"])
+def test_resume_is_exact(houses, tmp_path, method):
+    torch.set_num_threads(1)
+    config = replace(HouseAgentConfig(), method=method, num_envs=8, max_steps=60, steps=6_000, learning_starts=200,
+                     update_every=8, target_update=2_000, plan_every=3, checkpoint_every=10**9, log_every=2_000)
+
+    def run_for(steps, out, resume_from=None):
+        run = HouseTrainRun(replace(config, steps=steps), out, houses)
+        if resume_from is None:
+            run.begin()
+        else:
+            run.load_state_dict(resume_from)
+        run.run(progress=False)
+        return run
+
+    whole = run_for(6_000, tmp_path / "whole")
+    half = run_for(3_000, tmp_path / "half")
+    from objsearch_agents.house.train import STATE_FILE, load_checkpoint_file
+
+    resumed = run_for(6_000, tmp_path / "half", load_checkpoint_file(tmp_path / "half" / STATE_FILE))
+    untimed = lambda rows: [{k: v for k, v in r.items() if k != "wall_s"} for r in rows]
+    assert whole.counters["env_steps"] == resumed.counters["env_steps"] and untimed(whole.rows) == untimed(resumed.rows)
+    for a, b in ((whole.policy.ac, resumed.policy.ac), (whole.policy.q, resumed.policy.q)):
+        if a is not None:
+            assert all(torch.equal(x, y) for x, y in zip(a.state_dict().values(), b.state_dict().values()))
+    if whole.policy.grg is not None:
+        assert np.array_equal(whole.policy.grg.counts, resumed.policy.grg.counts) and whole.policy.grg.counts.sum() > 0
+
+
+def test_house_agents_refuse_other_checkpoints_and_suites(tmp_path):
+    from objsearch.eval.registry import make_agent
+
+    with pytest.raises(UserError, match="runs in the house world"):
+        make_agent("a3c", suite="gridworld")
+    policy = HousePolicy(replace(HouseAgentConfig(), method="dqn", suite="house-multi"))
+    save_policy(policy, tmp_path)
+    with pytest.raises(UserError, match="trained as dqn, not hrl_grg"):
+        make_agent("hrl_grg", str(tmp_path), suite="house-multi")
+    with pytest.raises(UserError, match="trained on suite house-multi"):
+        make_agent("dqn", str(tmp_path), suite="house-single")
+    assert make_agent("dqn", str(tmp_path), suite="house-multi").policy.config.method == "dqn"
+    state = torch.load(tmp_path / "policy.pt", weights_only=True)
+    state["camera"] = {**GOAL_CAMERA.to_dict(), "width": 128}
+    torch.save(state, tmp_path / "policy.pt")
+    with pytest.raises(UserError, match="camera"):
+        make_agent("dqn", str(tmp_path), suite="house-multi")
+    (tmp_path / "policy.pt").write_text("not a checkpoint")
+    with pytest.raises(UserError, match="cannot read checkpoint"):
+        make_agent("dqn", str(tmp_path), suite="house-multi")
+    assert not (CHECKPOINTS / "house-gen" / "hrl_grg_no_relation").exists()
+    with pytest.raises(UserError, match="objsearch train --agent hrl_grg_no_relation --suite house-gen"):
+        make_agent("hrl_grg_no_relation", suite="house-gen")
+
+
+def test_every_shipped_house_checkpoint_loads():
+    from objsearch.eval.registry import make_agent
+
+    shipped = sorted(CHECKPOINTS.glob("house-*/*/policy.pt"))
+    for path in shipped:
+        suite, name = path.parent.parent.name, path.parent.name
+        agent = make_agent(name, suite=suite)
+        assert agent.loaded_from == str(path) and agent.policy.config.name == name
+        assert (path.parent / "command.txt").read_text().startswith(f"objsearch train --agent {name} --suite {suite}")
+
+
+@pytest.mark.parametrize("agent", ["a3c", "hrl_grg"])
+def test_batched_evaluation_gives_the_sequential_records(cache_dir, agent):
+    from objsearch.eval.runner import EvalConfig, evaluate
+
+    config = EvalConfig(agent=agent, suite="house-single", splits=("seen-goals",), seeds=(1,),
+                        suite_config={"mode": "cached", "cache_dir": cache_dir, "max_steps": 60})
+    one = evaluate(config, progress=False, batch=1)
+    many = evaluate(config, progress=False, batch=16)
+    assert many["episodes"] == one["episodes"]
+    assert 0 < sum(r["success"] for r in one["episodes"]) < 100 and not any("error" in r for r in one["episodes"])
