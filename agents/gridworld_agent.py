@@ -17,11 +17,9 @@ its defaults.
 from __future__ import annotations
 
 import os
-import sys
 from pathlib import Path
 
 import numpy as np
-import torch
 
 from objsearch.errors import UserError
 from objsearch.eval.agent import AgentTask

@@ -34,8 +34,6 @@ replay memories, env and option state, random generator, counters, log rows),
 
 from __future__ import annotations
 
-import io
-import math
 import time
 from dataclasses import replace
 from pathlib import Path
@@ -44,6 +42,7 @@ import numpy as np
 import torch
 from tqdm import tqdm
 
+from objsearch import torchfile
 from objsearch.errors import UserError
 from objsearch.fileio import atomic_write, write_csv
 from objsearch.interrupt import stop_on_interrupt
@@ -258,8 +257,7 @@ class TrainRun:
         self.out.mkdir(parents=True, exist_ok=True)
         save_policy(self.policy, self.out)
         self.write_log()
-        with atomic_write(self.out / STATE_FILE, "wb") as f:
-            torch.save(self.state_dict(), f)
+        torchfile.save(self.out / STATE_FILE, self.state_dict())
 
     # -- the loop -------------------------------------------------------------------------------
     def run(self, progress: bool = True) -> bool:
@@ -294,24 +292,24 @@ def save_policy(policy: GridPolicy, out: Path) -> None:
     """The evaluable policy: ``policy.pt`` (network weights and config) and ``grg.npz``."""
     state = {"config": policy.config.to_json(), "num_goals": policy.num_goals, "low": policy.low.state_dict(),
              "high": policy.high.state_dict() if policy.high is not None else None}
-    with atomic_write(out / POLICY_FILE, "wb") as f:
-        torch.save(state, f)
+    torchfile.save(out / POLICY_FILE, state)
     if policy.grg is not None:
         policy.grg.save(out / GRG_FILE)
 
 
 def load_policy_file(path: Path) -> dict:
-    try:
-        return torch.load(path, map_location="cpu", weights_only=True)
-    except (OSError, RuntimeError, EOFError) as err:
-        raise UserError(f"cannot read checkpoint {path}: {err}") from None
+    state = torchfile.load(path, "a grid-world policy.pt written by objsearch train")
+    if not isinstance(state, dict) or not {"config", "num_goals", "low"} <= set(state):
+        raise UserError(f"checkpoint {path} is not a grid-world policy.pt (no config/low weights); "
+                        "pass one written by objsearch train --suite gridworld")
+    return state
 
 
 def _run_phase(config: GridAgentConfig, out: Path, maps, progress: bool, fresh: bool, init_low: dict | None) -> TrainRun:
     run = TrainRun(config, out, maps)
     state_path = out / STATE_FILE
     if state_path.exists() and not fresh:
-        state = torch.load(state_path, map_location="cpu", weights_only=False)  # our own file
+        state = torchfile.load(state_path, "the state.pt of a grid-world training run")
         saved = GridAgentConfig.from_json(state["config"])
         if replace(saved, episodes=config.episodes) != config:
             diff = [f for f, v in config.to_json().items() if saved.to_json().get(f) != v and f != "episodes"]

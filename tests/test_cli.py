@@ -120,3 +120,32 @@ def test_failed_episodes_are_reported_first_and_a_run_that_never_ran_exits_non_z
 def test_an_agent_is_refused_on_a_suite_it_does_not_run_in():
     out = run("objsearch-eval", "--agent", "a3c", "--suite", "gridworld", "--quiet")
     assert_clean_error(out, "runs in the house world", "gridworld")
+
+
+class _Evil:
+    """Pickles to a call that would create a file when unpickled."""
+
+    def __init__(self, target):
+        self.target = target
+
+    def __reduce__(self):
+        return (Path.touch, (Path(self.target),))
+
+
+@pytest.mark.parametrize("agent, suite", [("hrl_grg", "gridworld"), ("hrl_grg", "house-single"), ("a3c", "house-single")])
+def test_checkpoints_are_data_not_code(tmp_path, agent, suite):
+    import torch
+
+    marker = tmp_path / "code-ran"
+    cases = {"evil.pt": None, "empty.pt": b"", "text.pt": b"not a checkpoint\n", "truncated.pt": None}
+    torch.save({"config": _Evil(marker)}, tmp_path / "evil.pt")
+    torch.save({"config": {}, "low": {"w": torch.zeros(3)}}, tmp_path / "whole.pt")
+    cases["truncated.pt"] = (tmp_path / "whole.pt").read_bytes()[:40]
+    for name, data in cases.items():
+        if data is not None:
+            (tmp_path / name).write_bytes(data)
+        out = run("objsearch-eval", "--agent", agent, "--suite", suite, "--checkpoint", str(tmp_path / name), "--quiet")
+        assert_clean_error(out, "cannot read checkpoint", name)
+    assert not marker.exists(), "loading a checkpoint ran code"
+    wrong = run("objsearch-eval", "--agent", agent, "--suite", suite, "--checkpoint", str(tmp_path / "whole.pt"), "--quiet")
+    assert_clean_error(wrong, "whole.pt")

@@ -63,10 +63,13 @@ class TrainingHouses:
         target_ids = {CATEGORY_IDS[t] for t in targets}
         for h, world in enumerate(self.worlds):
             gt = HouseCache.open(world, GOAL_CAMERA, cache_dir, progress)
-            labels = gt if predictor is None else PredictedCache.open(world, GOAL_CAMERA, predictor, cache_dir, progress)
-            tables = house_tables(labels, world.graph.next_pose)
+            gt_tables = house_tables(gt, world.graph.next_pose)
+            if predictor is None:
+                tables = gt_tables
+            else:
+                tables = house_tables(PredictedCache.open(world, GOAL_CAMERA, predictor, cache_dir, progress), world.graph.next_pose)
             per_house.append(tables)
-            seen = (tables.pixels >= VISIBLE_PIXELS) if predictor is None else (house_tables(gt, world.graph.next_pose).pixels >= VISIBLE_PIXELS)
+            seen = gt_tables.pixels >= VISIBLE_PIXELS  # approach starts: the category is really in view
             for cid in sorted({CATEGORY_IDS[o.category] for o in world.spec.objects}):
                 goals = goal_poses(gt.semantic, gt.depth, cid, DEFAULT_RULE)
                 if not len(goals):

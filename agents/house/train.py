@@ -31,6 +31,7 @@ import numpy as np
 import torch
 from tqdm import tqdm
 
+from objsearch import torchfile
 from objsearch.errors import UserError
 from objsearch.fileio import atomic_write, write_csv, write_json
 from objsearch.interrupt import stop_on_interrupt
@@ -86,34 +87,9 @@ def grg_loss(learner: Learner, batch: dict, tables, policy: HousePolicy) -> torc
 
 
 # -- files ---------------------------------------------------------------------------------
-def _to_saved(obj):
-    """numpy arrays -> tensors (so ``torch.load(weights_only=True)`` reads the state back)."""
-    if isinstance(obj, np.ndarray):
-        return torch.from_numpy(np.ascontiguousarray(obj))
-    if isinstance(obj, dict):
-        return {k: _to_saved(v) for k, v in obj.items()}
-    if isinstance(obj, (list, tuple)):
-        return type(obj)(_to_saved(v) for v in obj)
-    return obj
-
-
-def _from_saved(obj):
-    if isinstance(obj, torch.Tensor):
-        return obj.numpy()
-    if isinstance(obj, dict):
-        return {k: _from_saved(v) for k, v in obj.items()}
-    if isinstance(obj, (list, tuple)):
-        return type(obj)(_from_saved(v) for v in obj)
-    return obj
-
-
 def load_checkpoint_file(path: Path) -> dict:
     """A ``policy.pt`` or ``state.pt`` (tensors and plain data only: nothing is executed)."""
-    try:
-        return torch.load(path, map_location="cpu", weights_only=True)
-    except Exception as err:  # torch raises many kinds for a damaged or foreign file
-        reason = str(err).strip().splitlines()[0] if str(err).strip() else type(err).__name__
-        raise UserError(f"cannot read checkpoint {path}: {reason}; expected a file written by objsearch train") from None
+    return torchfile.load(path, "a file written by objsearch train")
 
 
 def save_policy(policy: HousePolicy, out: Path) -> None:
@@ -121,8 +97,7 @@ def save_policy(policy: HousePolicy, out: Path) -> None:
     state = {"kind": "objsearch-house-policy", "config": policy.config.to_json(), "camera": GOAL_CAMERA.to_dict(),
              "ac": policy.ac.state_dict() if policy.ac is not None else None,
              "q": policy.q.state_dict() if policy.q is not None else None}
-    with atomic_write(out / POLICY_FILE, "wb") as f:
-        torch.save(state, f)
+    torchfile.save(out / POLICY_FILE, state)
     if policy.grg is not None:
         policy.grg.save(out / GRG_FILE)
 
@@ -279,7 +254,7 @@ class HouseTrainRun:
         return {
             "kind": "objsearch-house-train-state", "config": self.config.to_json(), "counters": dict(self.counters),
             "window": {k: (list(v) if isinstance(v, list) else v) for k, v in self.window.items()}, "rows": list(self.rows),
-            "arrays": _to_saved(arrays),
+            "arrays": arrays,
             "ac": self.ac.state_dict() if self.ac is not None else None,
             "q": self.q.state_dict() if self.q is not None else None,
             "low": self.policy.ac.state_dict() if self.policy.ac is not None else None,
@@ -287,7 +262,7 @@ class HouseTrainRun:
 
     def load_state_dict(self, s: dict) -> None:
         self.counters, self.window, self.rows = dict(s["counters"]), s["window"], list(s["rows"])
-        a = _from_saved(s["arrays"])
+        a = s["arrays"]
         self.rng.bit_generator.state = a["rng"]
         self.batch.load_state_dict(a["batch"])
         self.episode_ix = np.array(a["episode_ix"])
@@ -307,8 +282,7 @@ class HouseTrainRun:
         self.out.mkdir(parents=True, exist_ok=True)
         save_policy(self.policy, self.out)
         write_csv(self.out / LOG_FILE, LOG_FIELDS, self.rows)
-        with atomic_write(self.out / STATE_FILE, "wb") as f:
-            torch.save(self.state_dict(), f)
+        torchfile.save(self.out / STATE_FILE, self.state_dict())
 
     # -- the loop ----------------------------------------------------------------------------------
     def run(self, progress: bool = True) -> bool:

@@ -25,8 +25,9 @@ import numpy as np
 import torch
 import torch.nn.functional as F
 
+from objsearch import torchfile
 from objsearch.errors import UserError
-from objsearch.fileio import atomic_write, write_csv
+from objsearch.fileio import write_csv
 from objsearch.interrupt import stop_on_interrupt
 from objsearch.perception.config import TrainConfig
 from objsearch.perception.dataset import load_split, read_manifest
@@ -109,7 +110,7 @@ class TrainRun:
         self._perm_epoch, self._perm = -1, None
         state_path = self.out / STATE_FILE
         if state_path.exists() and not fresh:
-            state = torch.load(state_path, map_location="cpu", weights_only=False)  # our own file
+            state = torchfile.load(state_path, "the state.pt of a perception training run")
             saved = TrainConfig.from_json(state["config"])
             if saved != config:
                 raise UserError(f"{self.out} holds a run with another config ({self.out / CONFIG_FILE}); "
@@ -179,8 +180,7 @@ class TrainRun:
         self.write_log()
         state = {"config": self.config.to_json(), "model": self.model.state_dict(), "optimizer": self.optimizer.state_dict(),
                  "step": self.step, "wall_s": self.wall_s, "rows": self.rows}
-        with atomic_write(self.out / STATE_FILE, "wb") as f:
-            torch.save(state, f)
+        torchfile.save(self.out / STATE_FILE, state)
 
     def run(self, progress: bool = True) -> bool:
         """Train to ``config.steps``, checkpointing as it goes; False if interrupted (Ctrl-C)."""

@@ -181,7 +181,7 @@ def test_resume_is_exact(houses, tmp_path, method):
         return run
 
     whole = run_for(6_000, tmp_path / "whole")
-    half = run_for(3_000, tmp_path / "half")
+    run_for(3_000, tmp_path / "half")
     from objsearch_agents.house.train import STATE_FILE, load_checkpoint_file
 
     resumed = run_for(6_000, tmp_path / "half", load_checkpoint_file(tmp_path / "half" / STATE_FILE))

@@ -9,7 +9,6 @@ from objsearch.perception.model import NUM_CLASSES, ModelConfig, SegDepthNet, de
 from objsearch.perception.train import init_weights
 from objsearch.sim.env import NUM_CATEGORY_IDS
 
-from objsearch.perception.model import ModelConfig
 
 TINY_MODEL = ModelConfig(stem=16, mid=32, deep=48, aspp=32, aspp_rates=(2, 4), skip=16, decoder=32)  # trains in seconds
 

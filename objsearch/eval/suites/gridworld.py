@@ -7,7 +7,6 @@ from dataclasses import dataclass
 from functools import cached_property
 from pathlib import Path
 
-import numpy as np
 
 from objsearch.eval.suites import Episode
 from objsearch.gridworld import dataset

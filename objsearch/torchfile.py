@@ -1,0 +1,68 @@
+"""Checkpoints are data, not code: every ``.pt`` file objsearch writes or reads goes here.
+
+Files are read with ``torch.load(weights_only=True)``, which unpickles tensors and plain
+Python data only, so a file can never run code when it is opened. numpy arrays (replay
+memories, option state) are stored as tensors marked ``{"__ndarray__": tensor}``, numpy
+scalars as Python numbers, and restored on reading. A file that cannot be read (missing,
+empty, truncated, damaged, not a checkpoint, or holding something other than data) is a
+``UserError`` naming the file and what was expected.
+"""
+
+from __future__ import annotations
+
+import os
+from pathlib import Path
+
+import numpy as np
+import torch
+
+from objsearch.errors import UserError
+from objsearch.fileio import atomic_write
+
+_ARRAY = "__ndarray__"
+
+
+def to_saved(obj):
+    """``obj`` with numpy arrays as marked tensors and numpy scalars as Python numbers."""
+    if isinstance(obj, np.ndarray):
+        return {_ARRAY: torch.from_numpy(np.ascontiguousarray(obj))}
+    if isinstance(obj, np.generic):
+        return obj.item()
+    if isinstance(obj, dict):
+        return {k: to_saved(v) for k, v in obj.items()}
+    if isinstance(obj, (list, tuple)):
+        return type(obj)(to_saved(v) for v in obj)
+    return obj
+
+
+def from_saved(obj):
+    """The inverse of ``to_saved``."""
+    if isinstance(obj, dict):
+        if set(obj) == {_ARRAY}:
+            return obj[_ARRAY].numpy()
+        return {k: from_saved(v) for k, v in obj.items()}
+    if isinstance(obj, (list, tuple)):
+        return type(obj)(from_saved(v) for v in obj)
+    return obj
+
+
+def save(path: str | os.PathLike, obj) -> None:
+    """Write ``obj`` (tensors, numpy arrays, plain data) to ``path`` atomically."""
+    with atomic_write(path, "wb") as f:
+        torch.save(to_saved(obj), f)
+
+
+def load(path: str | os.PathLike, expected: str):
+    """Read a file written by ``save`` (or any weights-only ``torch.save``); ``expected``
+    says what it should be, for the error message (e.g. "a policy.pt written by objsearch train")."""
+    path = Path(path)
+    try:
+        return from_saved(torch.load(path, map_location="cpu", weights_only=True))
+    except FileNotFoundError:
+        raise UserError(f"checkpoint {path} does not exist; expected {expected}") from None
+    except Exception as err:  # torch raises many kinds for a damaged, foreign or code-carrying file
+        first = str(err).strip().splitlines()[0] if str(err).strip() else ""
+        reason = first if first and "weights_only" not in first else "not a weights-only checkpoint (damaged, or it holds code)"
+        if path.stat().st_size == 0:
+            reason = "the file is empty"
+        raise UserError(f"cannot read checkpoint {path}: {reason}; expected {expected}") from None
