@@ -77,11 +77,12 @@ def grg_loss(learner: Learner, batch: dict, tables, policy: HousePolicy) -> torc
     """HRL-GRG's high level: one Q per (candidate mask x C(sg -> g), depth); the weights come
     from the current GRG's plans to each transition's target."""
     rows = np.arange(len(batch["action"]))
-    weights = policy.relation_weights(policy.plan_values[object_node(batch["target"])])
+    values = policy.plan_values[object_node(batch["target"])]
+    weights = policy.relation_weights(values)
     q = learner.online(*candidate_inputs(tables, batch["hist"], rows, batch["action"], weights))
     with torch.no_grad():
         best = policy.candidate_argmax(learner.online, tables, batch["next_hist"],
-                                       candidates(tables, batch["next_hist"], batch["target"]), weights)
+                                       candidates(tables, batch["next_hist"], batch["target"]), values)
         next_q = learner.target(*candidate_inputs(tables, batch["next_hist"], rows, best, weights))
     return td_loss(q, batch["reward"], batch["done"], next_q, learner.gamma)
 
