@@ -133,7 +133,7 @@ class HouseAgent:
         p.advance(tables, hist, np.zeros(self._slots, bool), count=False)  # no-op for slots on their first step
         if p.config.hierarchical:
             p.select_subgoals(tables, hist, self.epsilon, rng)
-        actions = p.actions(tables, hist, self.epsilon, rng)
+        actions, _ = p.actions(tables, hist, self.epsilon, rng)
         return {i: int(actions[i]) for i in busy}
 
     # -- training -----------------------------------------------------------------------------

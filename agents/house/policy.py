@@ -187,15 +187,17 @@ class HousePolicy:
         return self.target if self.config.method == "a3c" else node_category(self.subgoal)
 
     @torch.no_grad()
-    def actions(self, tables: ObservationTables, hist: np.ndarray, epsilon: np.ndarray, rng) -> np.ndarray:
-        """Primitive actions: DQN epsilon-greedy; the actor-critic's sampled from its policy."""
+    def actions(self, tables: ObservationTables, hist: np.ndarray, epsilon: np.ndarray, rng) -> tuple[np.ndarray, tuple | None]:
+        """Primitive actions (DQN epsilon-greedy; the actor-critic's sampled from its policy)
+        and the actor-critic's inputs they were chosen from (None for DQN)."""
         n = len(hist)
         if self.config.method == "dqn":
             q = self.q(*category_input(tables, hist, self.target)).numpy()
             explore = rng.random(n) < epsilon
-            return np.where(explore, rng.integers(NUM_ACTIONS, size=n), q.argmax(axis=1))
-        logits, _ = self.ac(*map(_t, low_input(tables, hist, self.acting_category())))
-        return sample_actions(logits, rng)
+            return np.where(explore, rng.integers(NUM_ACTIONS, size=n), q.argmax(axis=1)), None
+        inputs = low_input(tables, hist, self.acting_category())
+        logits, _ = self.ac(*map(_t, inputs))
+        return sample_actions(logits, rng), inputs
 
     def advance(self, tables: ObservationTables, hist: np.ndarray, episode_over: np.ndarray, count: bool) -> np.ndarray:
         """Update the options after an env step (``hist``: the histories it led to). Ends

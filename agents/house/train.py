@@ -40,8 +40,7 @@ from objsearch_agents.a2c import ActorCriticLearner
 from objsearch_agents.dqn_learner import Learner, td_loss
 from objsearch_agents.house.config import HouseAgentConfig
 from objsearch_agents.house.episodes import EpisodeBatch, TrainingHouses, object_node
-from objsearch_agents.house.policy import (HousePolicy, _t, candidate_inputs, candidates, category_input, low_input,
-                                           sample_actions)
+from objsearch_agents.house.policy import HousePolicy, _t, candidate_inputs, candidates, category_input, low_input
 from objsearch_agents.house.tables import HISTORY
 from objsearch_agents.replay import ReplayBuffer
 
@@ -160,13 +159,7 @@ class HouseTrainRun:
         if c.hierarchical:
             p.select_subgoals(tables, hist, eps, self.rng)
         chosen = p.subgoal.copy() if c.hierarchical else None
-        if self.ac is not None:
-            inputs = low_input(tables, hist, b.target)
-            with torch.no_grad():
-                logits, _ = p.ac(*map(_t, inputs))
-            actions = sample_actions(logits, self.rng)
-        else:
-            actions = p.actions(tables, hist, eps, self.rng)
+        actions, inputs = p.actions(tables, hist, eps, self.rng)
         success, truncated = b.step(actions)
         over = success | truncated
         reward = success.astype(np.float32)
