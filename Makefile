@@ -21,10 +21,10 @@ $(STAMP): $(BIN)/python pyproject.toml
 install: $(STAMP)
 
 demo: $(STAMP)
-	$(BIN)/objsearch-eval
-	$(BIN)/objsearch-eval --agent oracle
-	$(BIN)/objsearch-eval --agent hrl_grg --split unseen-goals --seeds 1 --workers 2
-	$(BIN)/objsearch-eval --agent hrl_grg --suite house-single --seeds 1 --batch 32
+	$(BIN)/objsearch-eval --suite gridworld
+	$(BIN)/objsearch-eval --suite gridworld --agent oracle
+	$(BIN)/objsearch-eval --suite gridworld --agent hrl_grg --split unseen-goals --seeds 1 --workers 2
+	$(BIN)/objsearch-eval --agent hrl_grg --seeds 1 --batch 32   # the main job: a house suite (house-single)
 
 test: $(STAMP)
 	$(BIN)/python -m pytest -q
@@ -44,7 +44,7 @@ LEADERBOARD_GREEDY ?= dqn_greedy=objsearch_agents.dqn:DQNGreedyAgent hdqn_greedy
 LEADERBOARD_HOUSE ?= house-single:a3c house-single:dqn house-single:hdqn house-single:hrl_grg \
 	house-multi:a3c house-multi:dqn house-multi:hdqn house-multi:hrl_grg
 leaderboard: $(STAMP)
-	mkdir -p build
+	mkdir -p build && date +%s > build/.leaderboard-start
 	for pair in $(LEADERBOARD_HOUSE); do suite=$${pair%%:*}; agent=$${pair#*:}; \
 	  $(BIN)/objsearch-eval --agent $$agent --suite $$suite --batch 32 --quiet --out build/$$suite-$$agent.json && \
 	  $(BIN)/objsearch leaderboard add build/$$suite-$$agent.json --replace && \
@@ -53,17 +53,18 @@ leaderboard: $(STAMP)
 	  $(BIN)/objsearch leaderboard add build/$$suite-$${agent}_predicted.json --name $${agent}_predicted --replace || exit 1; \
 	done
 	for suite in $(LEADERBOARD_SUITES); do for agent in $(LEADERBOARD_AGENTS); do \
-	  $(BIN)/objsearch-eval --agent $$agent --suite $$suite --quiet --out build/$$suite-$$agent.json && \
+	  $(BIN)/objsearch-eval --agent $$agent --suite $$suite --batch 32 --quiet --out build/$$suite-$$agent.json && \
 	  $(BIN)/objsearch leaderboard add build/$$suite-$$agent.json --replace || exit 1; \
 	done; done
 	for agent in $(LEADERBOARD_GRID_AGENTS); do \
-	  $(BIN)/objsearch-eval --agent $$agent --suite gridworld --workers 2 --quiet --out build/gridworld-$$agent.json && \
+	  $(BIN)/objsearch-eval --agent $$agent --suite gridworld --workers 2 --batch 64 --quiet --out build/gridworld-$$agent.json && \
 	  $(BIN)/objsearch leaderboard add build/gridworld-$$agent.json --replace || exit 1; \
 	done
 	for pair in $(LEADERBOARD_GREEDY); do name=$${pair%%=*}; \
-	  $(BIN)/objsearch-eval --agent $${pair#*=} --suite gridworld --workers 2 --quiet --out build/gridworld-$$name.json && \
+	  $(BIN)/objsearch-eval --agent $${pair#*=} --suite gridworld --workers 2 --batch 64 --quiet --out build/gridworld-$$name.json && \
 	  $(BIN)/objsearch leaderboard add build/gridworld-$$name.json --name $$name --replace || exit 1; \
 	done
+	@echo "make leaderboard: $$(( $$(date +%s) - $$(cat build/.leaderboard-start) )) s"
 
 clean:
 	rm -rf $(VENV) build *.egg-info

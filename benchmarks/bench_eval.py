@@ -7,8 +7,12 @@ Measured: the shipped ``hrl_grg`` and ``dqn`` on the grid world (split ``all-goa
 1: 100 episodes; the full protocol is 15 x that), and ``random`` and the shipped
 house-single ``hrl_grg`` on ``house-single`` (split ``seen-goals``, seed 1: 100 episodes;
 the full protocol is 10 x that). Each pair also checks that the records are identical.
+Then the wall time of one learned agent's full protocol (every split, the paper's 5 seeds),
+as ``objsearch-eval --batch N --workers 2`` runs it, start-up included: ``hrl_grg`` on the
+grid world (7,500 episodes) and on ``house-single`` (1,000).
 With ``--json`` the last line is one JSON object: for each ``<suite>/<agent>``,
-``{"batched": episodes/s, "single": episodes/s, "speedup": x, "identical": bool}``.
+``{"batched": episodes/s, "single": episodes/s, "speedup": x, "identical": bool}``, and
+``"protocol": {"<suite>/<agent>": {"episodes": n, "wall_s": s}}``.
 """
 
 from __future__ import annotations
@@ -22,6 +26,7 @@ os.environ.setdefault("MUJOCO_GL", "egl")
 
 from objsearch.eval.runner import EvalConfig, evaluate  # noqa: E402
 
+PROTOCOL = (("gridworld", "hrl_grg", 64), ("house-single", "hrl_grg", 32))
 CASES = (("gridworld", "hrl_grg", "all-goals"), ("gridworld", "dqn", "all-goals"),
          ("house-single", "random", "seen-goals"), ("house-single", "hrl_grg", "seen-goals"))
 
@@ -50,6 +55,14 @@ def main() -> None:
         figures[f"{suite}/{agent}"] = m = measure(suite, agent, split, args.batch)
         print(f"{suite:13s} {agent:8s} {m['batched']:>8.1f} episodes/s batched, {m['single']:>7.1f} one at a time "
               f"({m['speedup']}x), records identical: {m['identical']}")
+    figures["protocol"] = {}
+    for suite, agent, batch in PROTOCOL:
+        start = time.perf_counter()
+        results = evaluate(EvalConfig(agent=agent, suite=suite), progress=False, workers=2, batch=batch)
+        wall = round(time.perf_counter() - start, 1)
+        figures["protocol"][f"{suite}/{agent}"] = {"episodes": len(results["episodes"]), "wall_s": wall}
+        print(f"{suite:13s} {agent:8s} full protocol: {len(results['episodes'])} episodes in {wall} s "
+              f"(--workers 2 --batch {batch})")
     if args.json:
         print(json.dumps(figures))
 

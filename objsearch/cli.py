@@ -17,6 +17,7 @@ from objsearch.errors import UserError
 # inside its func).
 COMMANDS = [
     "objsearch.eval.cli",
+    "objsearch.eval.suites.cli",
     "objsearch.leaderboard.cli",
     "objsearch.house.cli",
     "objsearch.sim.cli",

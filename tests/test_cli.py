@@ -27,7 +27,8 @@ def test_list_agents():
 
 
 def test_eval_prints_the_table_and_writes_results(tmp_path):
-    out = run("objsearch", "eval", "--agent", "oracle", "--split", "unseen-goals", "--seeds", "1,5", "--out", str(tmp_path / "r.json"), "--quiet")
+    out = run("objsearch", "eval", "--agent", "oracle", "--suite", "gridworld", "--split", "unseen-goals", "--seeds", "1,5",
+              "--out", str(tmp_path / "r.json"), "--quiet")
     assert out.returncode == 0, out.stderr
     assert "Unseen Goals" in out.stdout and "AS / MS" in out.stdout
     assert "oracle" in out.stdout and "1.00" in out.stdout
@@ -40,8 +41,18 @@ def test_eval_prints_the_table_and_writes_results(tmp_path):
     assert split["sr"] == 1.0 and len(results["episodes"]) == 200
 
 
+def test_without_suite_eval_runs_the_house_benchmark_and_maps_imply_the_grid_world(tmp_path, cache_dir, user_maps):
+    out = run("objsearch-eval", "--agent", "oracle", "--split", "seen-goals", "--seeds", "1", "--cache-dir", cache_dir,
+              "--out", str(tmp_path / "r.json"), "--quiet")
+    assert out.returncode == 0, out.stderr
+    assert json.loads((tmp_path / "r.json").read_text())["suite"] == "house-single"
+    (user_maps / "t.jsonl").write_text('{"map": "map_0100", "start": [1, 1], "goal": 0}\n')
+    out = run("objsearch-eval", "--maps", str(user_maps / "maps"), "--tasks", str(user_maps / "t.jsonl"), "--quiet")
+    assert out.returncode == 0, out.stderr
+
+
 def test_objsearch_eval_is_objsearch_eval_subcommand(tmp_path):
-    args = ["--agent", "random", "--split", "all-goals", "--seeds", "3", "--quiet"]
+    args = ["--agent", "random", "--suite", "gridworld", "--split", "all-goals", "--seeds", "3", "--quiet"]
     a = run("objsearch-eval", *args, "--out", str(tmp_path / "a.json"))
     b = run("objsearch", "eval", *args, "--out", str(tmp_path / "b.json"))
     assert a.returncode == b.returncode == 0
@@ -61,7 +72,7 @@ def assert_clean_error(out, *needles):
 def test_unknown_agent_suite_and_split():
     assert_clean_error(run("objsearch-eval", "--agent", "orcale"), "unknown agent 'orcale'", "did you mean 'oracle'")
     assert_clean_error(run("objsearch-eval", "--suite", "gridwrld"), "unknown suite 'gridwrld'")
-    assert_clean_error(run("objsearch-eval", "--split", "unseen"), "unknown split 'unseen'")
+    assert_clean_error(run("objsearch-eval", "--suite", "gridworld", "--split", "unseen"), "unknown split 'unseen'")
 
 
 @pytest.fixture
@@ -99,6 +110,13 @@ def test_maps_without_tasks():
     assert_clean_error(run("objsearch-eval", "--maps", "somewhere"), "--maps and --tasks go together")
 
 
+def test_a_flag_of_other_suites_is_refused_naming_the_suites_that_take_it(user_maps):
+    assert_clean_error(run("objsearch-eval", "--suite", "gridworld", "--render", "live"),
+                       "--render does not apply to suite 'gridworld'", "house-single, house-multi, house-gen, suite files")
+    out = run("objsearch-eval", "--suite", "house-single", "--maps", str(user_maps / "maps"), "--tasks", "t.jsonl")
+    assert_clean_error(out, "--maps does not apply to suite 'house-single'", "suites that take it: gridworld")
+
+
 def test_bad_seeds_are_rejected_by_the_parser():
     out = run("objsearch-eval", "--seeds", "one,two")
     assert out.returncode == 2 and "seeds must be comma-separated integers" in out.stderr
@@ -106,7 +124,7 @@ def test_bad_seeds_are_rejected_by_the_parser():
 
 def test_failed_episodes_are_reported_first_and_a_run_that_never_ran_exits_non_zero():
     env = {**os.environ, "PYTHONPATH": str(Path(__file__).parent / "eval")}
-    args = ["--split", "unseen-goals", "--seeds", "1", "--quiet"]
+    args = ["--suite", "gridworld", "--split", "unseen-goals", "--seeds", "1", "--quiet"]
     out = subprocess.run([str(BIN / "objsearch-eval"), "--agent", "agents_for_tests:BadActionAgent", *args],
                          capture_output=True, text=True, env=env, timeout=300)
     assert out.returncode == 1, out.stderr

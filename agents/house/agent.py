@@ -89,6 +89,8 @@ class HouseAgent:
             self.policy.ac.load_state_dict(state["ac"])
         if self.policy.q is not None:
             self.policy.q.load_state_dict(state["q"])
+        if self.policy.explore is not None:
+            self.policy.explore.load_state_dict(state["explore"])
         if self.policy.grg is not None:
             self.policy.grg = GoalsRelationalGraph.load(path.parent / GRG_FILE)
             self.policy.refresh_plans()

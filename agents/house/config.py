@@ -77,6 +77,10 @@ class HouseAgentConfig:
     """Environment steps of the approach pretraining of the actor-critic (0: none)."""
     pretrained: str = ""
     """A ``policy.pt`` whose actor-critic starts this run (empty: pretrain in ``OUT/pretrain``)."""
+    explorer: str = ""
+    """Hierarchical methods: a ``policy.pt`` whose actor-critic runs the back-up node's options,
+    e.g. the suite's trained ``a3c``, which learned to move through the training houses with
+    the target out of view (empty: the low level on depth alone, as the authors' code)."""
     train_low: bool = False
     """Hierarchical methods: keep training the low level on the intrinsic reward (False: frozen pretrained)."""
     plan_every: int = 10

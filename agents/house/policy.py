@@ -90,6 +90,7 @@ class HousePolicy:
     def __init__(self, config: HouseAgentConfig):
         self.config = c = config
         self.ac = seeded_init(ActorCritic, c.seed) if c.method != "dqn" else None
+        self.explore = seeded_init(ActorCritic, c.seed + 2) if c.hierarchical and c.explorer else None
         self.q = None
         if c.method == "dqn":
             self.q = seeded_init(CategoryQ, c.seed + 1, NUM_CATEGORIES, NUM_ACTIONS)
@@ -197,6 +198,10 @@ class HousePolicy:
             return np.where(explore, rng.integers(NUM_ACTIONS, size=n), q.argmax(axis=1)), None
         inputs = low_input(tables, hist, self.acting_category())
         logits, _ = self.ac(*map(_t, inputs))
+        if self.explore is not None:  # the back-up node's options: the explorer's policy
+            rows = np.flatnonzero(self.subgoal == RANDOM)
+            if len(rows):
+                logits[rows] = self.explore(*(_t(x[rows]) for x in inputs))[0]
         return sample_actions(logits, rng), inputs
 
     def advance(self, tables: ObservationTables, hist: np.ndarray, episode_over: np.ndarray, count: bool) -> np.ndarray:

@@ -13,7 +13,8 @@ pass per level per step. The paper's protocol (appendix B.3), as the authors' co
   ids (the observation is rebuilt from the tables), batch 64, RMSProp, loss 0.5 * MSE, one
   transition per primitive step with the extrinsic reward; exploration 1 -> 0.1 over the
   first episodes (fixed per episode at its start).
-* Hierarchical low levels stay the pretrained approach policy (frozen).
+* Hierarchical low levels stay the pretrained approach policy (frozen); with ``explorer``,
+  the back-up node's options run another frozen actor-critic (the suite's A3C).
 * Curriculum on the start pools (``episodes``); an episode is at most 1000 steps.
 
 Files in the run directory: ``config.json``, ``command.txt``, ``policy.pt`` (+ ``grg.npz``)
@@ -96,7 +97,8 @@ def save_policy(policy: HousePolicy, out: Path) -> None:
     """The evaluable policy: ``policy.pt`` (config and network weights) and ``grg.npz``."""
     state = {"kind": "objsearch-house-policy", "config": policy.config.to_json(), "camera": GOAL_CAMERA.to_dict(),
              "ac": policy.ac.state_dict() if policy.ac is not None else None,
-             "q": policy.q.state_dict() if policy.q is not None else None}
+             "q": policy.q.state_dict() if policy.q is not None else None,
+             "explore": policy.explore.state_dict() if policy.explore is not None else None}
     torchfile.save(out / POLICY_FILE, state)
     if policy.grg is not None:
         policy.grg.save(out / GRG_FILE)
@@ -252,6 +254,7 @@ class HouseTrainRun:
             "ac": self.ac.state_dict() if self.ac is not None else None,
             "q": self.q.state_dict() if self.q is not None else None,
             "low": self.policy.ac.state_dict() if self.policy.ac is not None else None,
+            "explore": self.policy.explore.state_dict() if self.policy.explore is not None else None,
         }
 
     def load_state_dict(self, s: dict) -> None:
@@ -262,6 +265,8 @@ class HouseTrainRun:
         self.episode_ix = np.array(a["episode_ix"])
         if self.policy.ac is not None:
             self.policy.ac.load_state_dict(s["low"])
+        if self.policy.explore is not None:
+            self.policy.explore.load_state_dict(s["explore"])
         if self.ac is not None:
             self.ac.load_state_dict(s["ac"])
         if self.q is not None:
@@ -321,6 +326,8 @@ def _run_phase(config: HouseAgentConfig, out: Path, houses: TrainingHouses, pool
     else:
         if init_ac is not None:
             run.policy.ac.load_state_dict(init_ac)
+        if run.policy.explore is not None:
+            run.policy.explore.load_state_dict(load_checkpoint_file(Path(config.explorer))["ac"])
         out.mkdir(parents=True, exist_ok=True)
         write_json(out / CONFIG_FILE, config.to_json())
         run.begin()
@@ -346,7 +353,7 @@ def train(config: HouseAgentConfig, out: str | Path, houses: TrainingHouses | No
             init_ac = load_checkpoint_file(Path(config.pretrained))["ac"]
         elif config.pretrain_steps > 0:
             pre_config = replace(config, method="a3c", max_steps=config.option_steps, steps=config.pretrain_steps,
-                                 pretrain_steps=0, pretrained="", relation=True, termination=True, high_level=True)
+                                 pretrain_steps=0, pretrained="", explorer="", relation=True, termination=True, high_level=True)
             pre = _run_phase(pre_config, out / "pretrain", houses, "approach", progress, fresh, None)
             if pre.interrupted:
                 return pre

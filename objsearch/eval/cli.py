@@ -9,21 +9,28 @@ from objsearch.cliargs import positive_int, seconds, seed_list
 from objsearch.errors import UserError
 
 DEFAULT_AGENT = "random"
+DEFAULT_BATCH = 32
+# The flags that set suite options: attribute of the parsed arguments -> option of the suite
+# (each suite class names the options it takes; a flag its suite lacks is an error).
+SUITE_FLAGS = {"maps": "maps", "tasks": "tasks", "max_steps": "max_steps", "render": "mode", "cache_dir": "cache_dir",
+               "observation": "observation", "perception": "perception"}
 
 
 def configure(parser: argparse.ArgumentParser) -> argparse.ArgumentParser:
     from objsearch.eval.runner import PAPER_SEEDS
-    from objsearch.eval.suites import DEFAULT_SUITE
+    from objsearch.eval.suites import DEFAULT_SUITE, SUITES
 
     parser.add_argument("--agent", default=DEFAULT_AGENT, help=f"registered name or package.module:Class (default: {DEFAULT_AGENT})")
-    parser.add_argument("--suite", default=DEFAULT_SUITE, help=f"suite to evaluate on (default: {DEFAULT_SUITE})")
+    parser.add_argument("--suite", help=f"suite to evaluate on: {', '.join(SUITES)}, or a suite file (.json) made by "
+                                        f"objsearch suite make (default: {DEFAULT_SUITE}; gridworld with --maps/--tasks)")
     parser.add_argument("--split", action="append", dest="splits", metavar="NAME", help="split to run; repeat for several (default: all)")
     parser.add_argument(
         "--seeds", type=seed_list, default=PAPER_SEEDS, help="comma-separated evaluation seeds (default: the paper's 1,5,13,45,99)"
     )
     parser.add_argument("--workers", type=positive_int, default=1, help="worker processes; results are identical for any number")
-    parser.add_argument("--batch", type=positive_int, default=1,
-                        help="episodes each worker plays in lockstep (batched agents decide for all in one call); same results")
+    parser.add_argument("--batch", type=positive_int,
+                        help=f"episodes each worker plays in lockstep (batched agents decide for all in one call); "
+                             f"the same results for any N (default: {DEFAULT_BATCH}; 1 with --video)")
     parser.add_argument("--checkpoint", help="checkpoint passed to the agent's load()")
     parser.add_argument(
         "--out", help="write the results JSON here; an interrupted run resumes from OUT.partial.jsonl when rerun"
@@ -72,31 +79,24 @@ def run(args: argparse.Namespace) -> int:
     from objsearch.eval.results import format_table
     from objsearch.eval.runner import EvalConfig, evaluate
 
-    suite_config = {}
-    if args.maps or args.tasks:
-        if args.suite != "gridworld":
-            raise UserError("--maps/--tasks apply to the gridworld suite only")
-        suite_config.update(maps=args.maps, tasks=args.tasks)
-    if args.render or args.cache_dir or args.observation or args.perception:
-        if not args.suite.startswith("house"):
-            raise UserError("--render/--cache-dir/--observation/--perception apply to the house suites only")
-        suite_config.update(mode=args.render or "cached", cache_dir=args.cache_dir)
-        if args.observation or args.perception:
-            suite_config.update(observation=args.observation or "gt", perception=args.perception)
-    if args.max_steps:
-        suite_config["max_steps"] = args.max_steps
+    from objsearch.eval.suites import DEFAULT_SUITE
+
+    if args.address and args.executor != "ray":
+        raise UserError(f"--address {args.address} needs --executor ray; add it, or drop --address to run here")
+    if args.suite is None:
+        args.suite = "gridworld" if args.maps or args.tasks else DEFAULT_SUITE
     config = EvalConfig(
         agent=args.agent,
         suite=args.suite,
         splits=tuple(args.splits or ()),
         seeds=args.seeds,
         checkpoint=args.checkpoint,
-        suite_config=suite_config,
+        suite_config=suite_config(args),
         step_time_limit=args.step_time_limit or None,
     )
     results = evaluate(
         config, workers=args.workers, progress=not args.quiet, executor=args.executor, address=args.address, out=args.out,
-        video_dir=args.video, batch=args.batch,
+        video_dir=args.video, batch=args.batch or (1 if args.video else DEFAULT_BATCH),
     )
     failed = [r for r in results["episodes"] if "error" in r]
     if failed:  # first, so that a table of failures is never mistaken for a result
@@ -110,3 +110,22 @@ def run(args: argparse.Namespace) -> int:
         print("every episode failed: this is not a result (exit 1)", file=sys.stderr)
         return 1
     return 0
+
+
+def suite_config(args: argparse.Namespace) -> dict:
+    """The options of ``args.suite`` that its flags set; a flag for an option the suite does not
+    take is an error naming the suites that take it."""
+    from objsearch.eval.suites import suite_class, suites_taking
+
+    options = suite_class(args.suite).options
+    config = {}
+    for attribute, option in SUITE_FLAGS.items():
+        value = getattr(args, attribute)
+        if value is None:
+            continue
+        if option not in options:
+            flag = "--" + attribute.replace("_", "-")
+            raise UserError(f"{flag} does not apply to suite {args.suite!r}; suites that take it: "
+                            f"{', '.join(suites_taking(option))}")
+        config[option] = value
+    return config

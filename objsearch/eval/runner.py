@@ -140,25 +140,17 @@ def _run_ray(
     config: EvalConfig, units: list[Unit], workers: int, address: str | None, video_dir, done: Callable[[list[dict]], None],
     batch: int = 1,
 ) -> None:
-    try:
-        import ray
+    from objsearch.cluster import ray_session
+
+    with ray_session(address, num_cpus=workers) as ray:
         from ray.util import ActorPool
-    except ImportError:
-        raise UserError("--executor ray needs Ray: pip install 'objsearch[ray]'") from None
-    started_here = not ray.is_initialized()
-    if started_here:
-        init = {"address": address} if address else {"num_cpus": workers}
-        ray.init(**init, include_dashboard=False, logging_level="ERROR", log_to_driver=False)
-    try:
+
         if address:
             workers = max(workers, int(ray.cluster_resources().get("CPU", 1)))
         actors = [ray.remote(num_cpus=1)(Worker).remote(config, video_dir, batch) for _ in range(workers)]
         chunks = _chunks(units, workers, batch)
         for part in ActorPool(actors).map_unordered(lambda actor, chunk: actor.run_chunk.remote(chunk), chunks):
             done(part)
-    finally:
-        if started_here:
-            ray.shutdown()
 
 
 class PartialResults:

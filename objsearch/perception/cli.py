@@ -10,6 +10,7 @@ import shlex
 import sys
 
 from objsearch.cliargs import key_value, non_negative_int
+from objsearch.cluster import add_executor_arguments, check_executor_arguments
 
 
 def add_parser(subparsers) -> None:
@@ -28,6 +29,7 @@ def add_parser(subparsers) -> None:
         data.add_argument(f"--{split}-houses", type=non_negative_int, help=f"use only the first N of the 10 {split} houses")
     data.add_argument("--size", type=non_negative_int, help="render width and height in pixels (default: 64, the agent camera's)")
     data.add_argument("--quiet", action="store_true", help="no progress bar")
+    add_executor_arguments(data, "--out")
     data.set_defaults(func=run_dataset)
 
     train = commands.add_parser("train", help="train the network (resumable)")
@@ -58,10 +60,12 @@ def run_dataset(args: argparse.Namespace) -> int:
     from objsearch.perception.dataset import build_dataset
     from objsearch.sim.renderer import RenderSettings
 
+    check_executor_arguments(args)
     settings = RenderSettings() if args.size is None else RenderSettings(width=args.size, height=args.size)
     limits = {s: getattr(args, f"{s}_houses") for s in ("train", "val", "test") if getattr(args, f"{s}_houses") is not None}
     manifest = build_dataset(args.out, settings=settings, seed=args.seed, poses_per_house=args.poses_per_house,
-                             eval_poses_per_house=args.eval_poses_per_house, houses=limits, progress=not args.quiet)
+                             eval_poses_per_house=args.eval_poses_per_house, houses=limits, progress=not args.quiet,
+                             executor=args.executor, address=args.address, workers=args.workers)
     for split, entry in manifest["splits"].items():
         print(f"{split}: {entry['frames']} frames from {len(entry['houses'])} houses")
     print(f"wrote {args.out}/manifest.json")

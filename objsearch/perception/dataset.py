@@ -146,7 +146,8 @@ def read_shard(path: Path) -> dict:
 
 def build_dataset(out: str | Path, *, settings=None, seed: int = 0, poses_per_house: int = 200,
                   eval_poses_per_house: int = 200, houses: dict[str, int] | None = None,
-                  progress: bool = True) -> dict:
+                  progress: bool = True, executor: str = "local", address: str | None = None,
+                  workers: int | None = None) -> dict:
     """Render the dataset into ``out`` (resuming: shards already there with the same meta are kept).
 
     Args:
@@ -157,15 +158,18 @@ def build_dataset(out: str | Path, *, settings=None, seed: int = 0, poses_per_ho
         eval_poses_per_house: frames per validation and test house.
         houses: split -> number of houses (default ``DEFAULT_HOUSES``; 0 leaves a split out).
         progress: show a progress bar.
+        executor, address, workers: where the houses' shards are rendered, one task per
+            house (``objsearch.cluster.map_houses``; on a Ray cluster ``out`` must be on a
+            filesystem every node shares). The files are the same for any of them.
 
     Returns:
-        The manifest (also written to ``out/manifest.json``).
+        The manifest (also written to ``out/manifest.json`` once every shard is there).
     """
-    from tqdm import tqdm
+    from functools import partial
 
-    from objsearch.sim.renderer import HouseRenderer, RenderSettings
+    from objsearch.cluster import map_houses
+    from objsearch.sim.renderer import RenderSettings
     from objsearch.sim.suites import load_suite_file
-    from objsearch.sim.world import HouseRef, World
 
     settings = settings or RenderSettings()
     out = Path(out)
@@ -174,33 +178,43 @@ def build_dataset(out: str | Path, *, settings=None, seed: int = 0, poses_per_ho
     for split in SPLITS:
         count = poses_per_house if split == "train" else eval_poses_per_house
         plan += [(split, house_id, info, count) for house_id, info in split_houses(split, houses[split]).items()]
+    task = partial(render_shard, out=out.resolve(), settings=settings, seed=seed)
+    shards = map_houses(task, plan, executor, address, workers, desc=f"render {out.name}", progress=progress)
     manifest = {"version": DATASET_VERSION, "suite": SUITE, "suite_version": load_suite_file(SUITE)["version"],
                 "categories": CATEGORY_TABLE_VERSION, "num_classes": NUM_CLASSES, "settings": settings.to_dict(),
                 "settings_key": settings.key(), "seed": seed, "splits": {}}
-    total = sum(count for *_, count in plan)
-    with tqdm(total=total, desc=f"render {out.name}", unit="frame", disable=not progress or None) as bar:
-        for split, house_id, info, count in plan:
-            path = out / split / f"{house_id}.npz"
-            meta = {"version": DATASET_VERSION, "house": house_id, "spec_sha256": info["spec_sha256"],
-                    "settings_key": settings.key(), "seed": seed, "requested": count}
-            shard = read_shard(path) if path.exists() else None
-            if shard is None or shard["meta"] != meta:
-                world = World.load(HouseRef(**info))
-                pose_ids = sample_pose_ids(world.graph.num_poses, count, seed, info["seed"])
-                with HouseRenderer(world.model, settings) as renderer:
-                    frames = renderer.render(world.graph.world_poses(pose_ids))
-                write_shard(path, frames.rgb, frames.depth, frames.semantic, pose_ids, meta)
-                semantic = frames.semantic
-            else:
-                semantic, pose_ids = shard["semantic"], shard["pose_ids"]
-            entry = manifest["splits"].setdefault(split, {"houses": {}, "frames": 0, "class_pixels": [0] * NUM_CLASSES})
-            entry["houses"][house_id] = {**info, "frames": int(len(pose_ids)), "shard": f"{split}/{house_id}.npz"}
-            entry["frames"] += int(len(pose_ids))
-            counts = np.bincount(semantic.ravel(), minlength=NUM_CLASSES)
-            entry["class_pixels"] = [a + int(b) for a, b in zip(entry["class_pixels"], counts)]
-            bar.update(count)
+    for (split, house_id, info, _), shard in zip(plan, shards):
+        entry = manifest["splits"].setdefault(split, {"houses": {}, "frames": 0, "class_pixels": [0] * NUM_CLASSES})
+        entry["houses"][house_id] = {**info, "frames": shard["frames"], "shard": f"{split}/{house_id}.npz"}
+        entry["frames"] += shard["frames"]
+        entry["class_pixels"] = [a + b for a, b in zip(entry["class_pixels"], shard["class_pixels"])]
     write_json(out / "manifest.json", manifest)
     return manifest
+
+
+def render_shard(item: tuple[str, str, dict, int], out: Path, settings, seed: int) -> dict:
+    """The task of ``build_dataset``: the shard ``out/<split>/<house id>.npz`` of one house
+    (``item``: split, house id, ``HouseRef`` fields, poses), kept if one with the same meta is
+    there. Returns its number of frames and pixel count of every category id."""
+    from objsearch.sim.renderer import HouseRenderer
+    from objsearch.sim.world import HouseRef, World
+
+    split, house_id, info, count = item
+    path = out / split / f"{house_id}.npz"
+    meta = {"version": DATASET_VERSION, "house": house_id, "spec_sha256": info["spec_sha256"],
+            "settings_key": settings.key(), "seed": seed, "requested": count}
+    shard = read_shard(path) if path.exists() else None
+    if shard is None or shard["meta"] != meta:
+        world = World.load(HouseRef(**info))
+        pose_ids = sample_pose_ids(world.graph.num_poses, count, seed, info["seed"])
+        with HouseRenderer(world.model, settings) as renderer:
+            frames = renderer.render(world.graph.world_poses(pose_ids))
+        write_shard(path, frames.rgb, frames.depth, frames.semantic, pose_ids, meta)
+        semantic = frames.semantic
+    else:
+        semantic, pose_ids = shard["semantic"], shard["pose_ids"]
+    counts = np.bincount(semantic.ravel(), minlength=NUM_CLASSES)
+    return {"frames": int(len(pose_ids)), "class_pixels": counts.tolist()}
 
 
 def read_manifest(data_dir: str | Path) -> dict:

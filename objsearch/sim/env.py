@@ -75,7 +75,8 @@ class HouseEnv(gymnasium.Env):
     iff at a goal pose). Truncated after ``max_steps`` (1000, the paper's).
 
     ## Arguments
-    ``houses``: HouseRefs (default: the house of generator seed 0). ``mode``: ``cached``
+    ``houses``: HouseRefs, or loaded ``World``s (envs that play side by side share them)
+    (default: the house of generator seed 0). ``mode``: ``cached``
     (every pose pre-rendered, memory-mapped; ``objsearch.sim.cache``) or ``live`` (render
     each step); both give identical observations. ``settings``: camera. ``cache_dir``.
     ``goal_rule``. ``targets``: categories sampled episodes may ask for.
@@ -93,7 +94,7 @@ class HouseEnv(gymnasium.Env):
 
     def __init__(
         self,
-        houses: Sequence[HouseRef] | None = None,
+        houses: Sequence[HouseRef | World] | None = None,
         mode: str = "cached",
         settings: RenderSettings = GOAL_CAMERA,
         max_steps: int = 1000,
@@ -144,7 +145,8 @@ class HouseEnv(gymnasium.Env):
     # -- houses -----------------------------------------------------------------------
     def _load(self, index: int) -> World:
         if index not in self._loaded:
-            world = World.load(self.refs[index])
+            ref = self.refs[index]
+            world = ref if isinstance(ref, World) else World.load(ref)
             self._loaded[index] = self._worlds[world.house_id] = world
         return self._loaded[index]
 

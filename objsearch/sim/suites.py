@@ -17,13 +17,24 @@ regenerates the houses and refuses to run if a hash differs.
 
 Episodes: 100 per split, house and target drawn uniformly, the start uniformly among poses
 6 to 40 minimal steps from the nearest goal pose (``START_STEPS``); 1000 steps at most.
-Rebuild (deliberately; bump the version): ``python -m objsearch.sim.suites NAME``.
+Rebuild (deliberately; bump the version): ``objsearch suite rebuild NAME``.
+
+``SUITE_NAMES`` is the one list of the shipped house suites (the harness's registry,
+``objsearch.eval.suites.SUITES``, takes them from here); a new house suite is a name there,
+its branch in ``build_suite`` and its file.
+
+A user's own houses (folders written by ``objsearch generate``) make a suite file with
+``objsearch suite make`` (``suite_from_houses``): the same fields, with each house recorded
+by its folder (a path relative to the suite file) and spec hash. ``load_suite_file`` takes a
+shipped suite's name or such a file's path; ``load_house`` refuses a house folder that is
+missing, does not load, or no longer matches its spec or the suite, naming the house.
 """
 
 from __future__ import annotations
 
+import hashlib
 import json
-import sys
+import os
 from functools import lru_cache
 from pathlib import Path
 
@@ -31,17 +42,20 @@ import numpy as np
 
 from objsearch.errors import UserError
 from objsearch.fileio import write_json
-from objsearch.house.categories import CATEGORY_IDS
+from objsearch.house.categories import CATEGORY_IDS, FIRST_OBJECT_ID
 from objsearch.sim.env import START_STEPS, HouseTask
 from objsearch.sim.goals import DEFAULT_RULE, GOAL_CAMERA, goal_poses
 from objsearch.sim.navgraph import NAVGRAPH_VERSION
 from objsearch.sim.world import HouseRef, World
 
 DATA_DIR = Path(__file__).parent / "data"
+# The shipped house suites, in this order for good: a suite's index seeds its builder.
 SUITE_NAMES = ("house-single", "house-multi", "house-gen")
 EPISODES_PER_SPLIT = 100
 MAX_STEPS = 1000
 SUITE_SEED = 20211201
+# The fields the harness reads from a suite file.
+SUITE_FILE_KEYS = ("version", "max_steps", "categories", "houses", "training_houses", "goals", "splits")
 # Targets: objects large enough to be found from across a room (the kind House3D used).
 TARGETS = (
     "armchair", "bathtub", "bed", "bookshelf", "chair", "coffee_table", "counter", "desk", "dining_table",
@@ -51,12 +65,78 @@ TARGETS = (
 )
 
 
-@lru_cache(maxsize=None)
 def load_suite_file(name: str) -> dict:
+    """The suite file of a shipped house suite (a name of ``SUITE_NAMES``), or the one at the
+    path ``name`` (``*.json``, made by ``objsearch suite make``) with its house folders
+    resolved against the file's folder."""
+    if name in SUITE_NAMES:
+        return _shipped_suite_file(name)
+    if not name.endswith(".json"):
+        raise UserError(f"unknown house suite {name!r}; known: {', '.join(SUITE_NAMES)}, "
+                        "or the path of a suite file (.json) made by objsearch suite make")
+    path = Path(name)
+    try:
+        data = json.loads(path.read_text())
+    except FileNotFoundError:
+        raise UserError(f"suite file {path} does not exist; make it with objsearch suite make --houses DIR --out {path}") from None
+    except OSError as err:
+        raise UserError(f"cannot read suite file {path}: {err.strerror}") from None
+    except json.JSONDecodeError as err:
+        raise UserError(f"suite file {path} is not JSON ({err}); remake it with objsearch suite make") from None
+    missing = [key for key in SUITE_FILE_KEYS if not isinstance(data, dict) or key not in data]
+    if missing:
+        raise UserError(f"{path} is not a suite file (no {', '.join(missing)}); make one with objsearch suite make")
+    for info in data["houses"].values():
+        if "path" in info:
+            info["path"] = os.path.abspath(path.parent / info["path"])
+    return data
+
+
+@lru_cache(maxsize=None)
+def _shipped_suite_file(name: str) -> dict:
     path = DATA_DIR / f"{name}.json"
     if not path.exists():
-        raise UserError(f"suite file {path} is missing; rebuild it with python -m objsearch.sim.suites {name}")
+        raise UserError(f"suite file {path} is missing; rebuild it with objsearch suite rebuild {name}")
     return json.loads(path.read_text())
+
+
+def write_suite_file(path: str | os.PathLike, suite: dict) -> None:
+    """Write a suite file as the shipped ones are written (one line of JSON, atomically)."""
+    write_json(path, suite, indent=None)
+
+
+def load_house(ref: HouseRef, name: str) -> World:
+    """``World.load(ref)``, with a house folder (``ref.path``) checked further: it must exist,
+    load, hold the ``house.xml`` its ``spec.json`` compiles to, and match ``ref.spec_sha256``.
+    A bad one is a one-line ``UserError`` naming the house (``name``) and the fix."""
+    if ref.path is None:
+        return World.load(ref)
+    from objsearch.house.mjcf import compile_house
+
+    folder = Path(ref.path)
+    if not folder.is_dir():
+        raise UserError(f"house {name}: folder {folder} is missing; restore it, or remake the suite with objsearch suite make")
+    try:
+        world = World.load(HouseRef(path=ref.path))
+        if ref.spec_sha256 is not None and world.spec_sha256 != ref.spec_sha256:
+            raise UserError(f"{folder / 'spec.json'} changed after the suite was made (spec hash {world.spec_sha256[:12]}, "
+                            f"the suite has {ref.spec_sha256[:12]}); restore the house, or remake the suite with "
+                            "objsearch suite make")
+        if compile_house(world.spec)[1] != (folder / "house.xml").read_text():
+            raise UserError(f"{folder / 'spec.json'} no longer matches its house.xml (one was edited, or they come from "
+                            "another objsearch or MuJoCo version); regenerate the house with objsearch generate")
+    except UserError as err:
+        raise UserError(f"house {name}: {' '.join(str(err).split())}") from None
+    except (ValueError, KeyError, TypeError, AttributeError) as err:
+        raise UserError(f"house {name}: {folder / 'spec.json'} is not a house spec ({' '.join(str(err).split())}); "
+                        "regenerate the house with objsearch generate") from None
+    return world
+
+
+def load_houses(suite: dict) -> dict[str, World]:
+    """A suite's evaluation houses by house id, each loaded and checked by ``load_house``."""
+    worlds = (load_house(HouseRef(**info), house_id) for house_id, info in suite["houses"].items())
+    return {world.house_id: world for world in worlds}
 
 
 def house_refs(suite: dict) -> list[HouseRef]:
@@ -123,8 +203,35 @@ def _episodes(worlds: dict[str, World], goals: dict, targets: list[str], count: 
 
 
 def house_entry(world: World, ref: HouseRef) -> dict:
-    """The fields a suite file stores for a house (``HouseRef`` fields, with the spec hash)."""
+    """The fields a suite file stores for a house (``HouseRef`` fields, with the spec hash):
+    its generator seed, or its folder (``ref.path``)."""
+    if ref.path is not None:
+        return {"path": ref.path, "spec_sha256": world.spec_sha256}
     return {"seed": ref.seed, "split": ref.split, "size_class": world.spec.size_class, "spec_sha256": world.spec_sha256}
+
+
+def _found_in_half(goals: dict, house_ids: list[str]) -> list[str]:
+    """The ``TARGETS`` with goal poses in at least half of the houses ``house_ids``."""
+    return sorted(t for t in TARGETS if sum(t in goals[house] for house in house_ids) >= len(house_ids) / 2)
+
+
+def _suite_record(name: str, version: str, categories: dict, houses: dict, training: dict, goals: dict,
+                  splits: dict) -> dict:
+    """A suite file's content: the given parts and the settings every suite records."""
+    return {
+        "suite": name,
+        "version": version,
+        "navgraph": NAVGRAPH_VERSION,
+        "goal_rule": DEFAULT_RULE.to_json(),
+        "goal_camera": GOAL_CAMERA.to_dict(),
+        "start_steps": list(START_STEPS),
+        "max_steps": MAX_STEPS,
+        "categories": categories,
+        "houses": houses,
+        "training_houses": training,
+        "goals": goals,
+        "splits": splits,
+    }
 
 
 def build_suite(name: str, cache_dir: str | None = None) -> dict:
@@ -187,7 +294,7 @@ def build_suite(name: str, cache_dir: str | None = None) -> dict:
     else:
         # targets found in at least half of the evaluation houses (an episode's house always has its target)
         evaluated = worlds["val"] + worlds["test"]
-        usable = sorted(t for t in TARGETS if sum(t in goals[w.house_id] for w in evaluated) >= len(evaluated) / 2)
+        usable = _found_in_half(goals, [w.house_id for w in evaluated])
         order = rng.permutation(len(usable))
         unseen_count = max(3, len(usable) // 3)
         categories = {
@@ -198,24 +305,73 @@ def build_suite(name: str, cache_dir: str | None = None) -> dict:
             by_id = {w.house_id: w for w in worlds[part]}
             for kind in ("seen", "unseen"):
                 splits[f"{part}-{kind}"] = _episodes(by_id, goals, categories[kind], EPISODES_PER_SPLIT, rng)
-    return {
-        "suite": name,
-        "version": f"{name}-v1",
-        "navgraph": NAVGRAPH_VERSION,
-        "goal_rule": DEFAULT_RULE.to_json(),
-        "goal_camera": GOAL_CAMERA.to_dict(),
-        "start_steps": list(START_STEPS),
-        "max_steps": MAX_STEPS,
-        "categories": categories,
-        "houses": houses,
-        "training_houses": training,
-        "goals": goals,
-        "splits": splits,
-    }
+    return _suite_record(name, f"{name}-v1", categories, houses, training, goals, splits)
 
 
-if __name__ == "__main__":
-    names = sys.argv[1:] or list(SUITE_NAMES)
-    for suite_name in names:
-        write_json(DATA_DIR / f"{suite_name}.json", build_suite(suite_name), indent=None)
-        print(f"wrote {DATA_DIR / f'{suite_name}.json'}")
+def suite_from_houses(houses_dir: str | os.PathLike, out: str | os.PathLike, targets: list[str] | None = None,
+                      episodes: int = EPISODES_PER_SPLIT, seed: int = 0, cache_dir: str | None = None) -> dict:
+    """The suite file to write at ``out`` for the houses under ``houses_dir`` (the folders
+    ``objsearch generate --out`` writes), made as ``build_suite`` makes the shipped ones: goal
+    poses by the goal rule (rendering every pose into the cache), spec hashes, and one split
+    (named after ``out``) of ``episodes`` episodes drawn with ``seed``. Targets: ``targets``,
+    else the ``TARGETS`` with goal poses in at least half of the houses (as ``house-gen``
+    picks them). Houses are recorded by their folder relative to ``out``'s folder, so the
+    file and the houses move together; every house is checked (``load_house``) before any
+    is rendered. The same houses, arguments and paths give the same file."""
+    root, base = Path(houses_dir), Path(out).resolve().parent
+    wanted = _check_targets(targets) if targets else list(TARGETS)
+    worlds, houses, folders = {}, {}, {}
+    for folder in house_folders(root):
+        world = load_house(HouseRef(path=str(folder)), folder.name)
+        if world.house_id in worlds:
+            raise UserError(f"{folders[world.house_id]} and {folder} hold the same house {world.house_id} "
+                            "(a copied folder?); keep one of them")
+        worlds[world.house_id], folders[world.house_id] = world, folder
+        stored = Path(os.path.relpath(folder.resolve(), base)).as_posix()
+        houses[world.house_id] = house_entry(world, HouseRef(path=stored))
+    tables = {house: _goal_table(world, wanted, cache_dir) for house, world in worlds.items()}
+    if targets:
+        for target in wanted:
+            if not any(target in table for table in tables.values()):
+                raise UserError(f"target {target!r} has no goal pose {START_STEPS[0]}-{START_STEPS[1]} steps from a "
+                                f"start in any house under {root}; drop it from --targets")
+    else:
+        wanted = _found_in_half(tables, list(worlds))
+        if not wanted:
+            raise UserError(f"no target category has goal poses in at least half of the houses under {root}; "
+                            "name the targets with --targets")
+    goals = {house: {t: poses for t, poses in table.items() if t in wanted} for house, table in tables.items()}
+    splits = {Path(out).stem: _episodes(worlds, goals, wanted, episodes, np.random.default_rng(seed))}
+    spec_hashes = {house: entry["spec_sha256"] for house, entry in houses.items()}
+    digest = hashlib.sha256(json.dumps([spec_hashes, goals, splits], sort_keys=True).encode()).hexdigest()[:12]
+    return _suite_record(Path(out).stem, f"custom:{digest}", {"targets": wanted}, houses, {}, goals, splits)
+
+
+def house_folders(root: Path) -> list[Path]:
+    """The house folders under ``root`` (those with a ``house.xml`` or ``spec.json``), by name."""
+    if not root.is_dir():
+        raise UserError(f"houses folder {root} does not exist; write houses there with objsearch generate --out {root}")
+    folders = sorted(p for p in root.iterdir() if p.is_dir() and not p.name.startswith(".")
+                     and ((p / "house.xml").exists() or (p / "spec.json").exists()))
+    if not folders:
+        raise UserError(f"no houses under {root}: expected folders with house.xml and spec.json, as "
+                        f"objsearch generate --out {root} writes them")
+    return folders
+
+
+def _check_targets(targets: list[str]) -> list[str]:
+    """``targets`` sorted and checked: each must be an object category."""
+    import difflib
+
+    objects = [name for name, i in CATEGORY_IDS.items() if i >= FIRST_OBJECT_ID]
+    for target in targets:
+        if target not in objects:
+            close = difflib.get_close_matches(target, objects, n=1)
+            hint = f"did you mean {close[0]!r}? " if close else ""
+            raise UserError(f"unknown target category {target!r}; {hint}use object categories of the category "
+                            "table (objsearch generate writes it to categories.json)")
+    return sorted(set(targets))
+
+
+if __name__ == "__main__":  # the old entry point, gone: say where it went
+    raise SystemExit("python -m objsearch.sim.suites is now: objsearch suite rebuild NAME [NAME ...]")

@@ -130,11 +130,29 @@ def test_plan_termination_ends_an_option_when_a_later_plan_node_is_seen():
     assert ended[0]  # the sofa, after the lamp on its plan, came into view
 
 
-def approach_success(houses, act, episodes=256, max_steps=30, seed=5) -> float:
-    """Success within ``max_steps`` from the nearest approach starts (a trivial task)."""
+def test_the_explorer_acts_for_the_back_up_node_only():
+    from objsearch_agents.house.policy import RANDOM
+
+    tables = synthetic_tables([{CATEGORY_IDS["bed"]: 30}])
+    policy = HousePolicy(replace(HouseAgentConfig(), method="hrl_grg", explorer="a3c/policy.pt"))
+    for net, action in ((policy.ac, 0), (policy.explore, 3)):  # each net always picks its own action
+        last = net.policy[-1]
+        torch.nn.init.zeros_(last.weight)
+        with torch.no_grad():
+            last.bias.copy_(torch.full((6,), -50.0))
+            last.bias[action] = 50.0
+    policy.start(4)
+    policy.begin_episodes(np.arange(4), np.full(4, CATEGORY_IDS["bed"]))
+    policy.subgoal[:] = [RANDOM, CATEGORY_IDS["bed"] - FIRST_OBJECT_ID, RANDOM, 0]
+    actions, _ = policy.actions(tables, np.zeros((4, 4), np.int64), np.zeros(4), np.random.default_rng(0))
+    assert actions.tolist() == [3, 0, 3, 0]
+
+
+def approach_success(houses, act, episodes=256, max_steps=30, seed=5, pool="approach") -> float:
+    """Success within ``max_steps`` from the nearest starts of ``pool`` (a trivial task)."""
     rng = np.random.default_rng(seed)
     batch = EpisodeBatch(houses, episodes, max_steps)
-    pairs, starts = houses.sample("approach", np.zeros(episodes, np.int64), 1000, rng)
+    pairs, starts = houses.sample(pool, np.zeros(episodes, np.int64), 1000, rng)
     batch.start(np.arange(episodes), pairs, starts)
     alive, won = np.ones(episodes, bool), np.zeros(episodes, bool)
     for _ in range(max_steps):
@@ -144,25 +162,74 @@ def approach_success(houses, act, episodes=256, max_steps=30, seed=5) -> float:
     return float(won.mean())
 
 
-def test_a3c_learns_to_approach_and_beats_random(houses, tmp_path):
+def policy_act(houses, policy, epsilon=0.0):
+    """``act`` for ``approach_success``: ``policy`` deciding as in training (no learning)."""
+    started = []
+
+    def act(batch, rng):
+        n = len(batch.pose)
+        if not started:
+            started.append(True)
+            policy.start(n)
+            policy.begin_episodes(np.arange(n), batch.target)
+        else:  # the histories the last step led to
+            policy.advance(houses.tables, batch.hist, np.zeros(n, bool), count=False)
+        eps = np.full(n, epsilon)
+        if policy.config.hierarchical:
+            policy.select_subgoals(houses.tables, batch.hist, eps, rng)
+        return policy.actions(houses.tables, batch.hist, eps, rng)[0]
+
+    return act
+
+
+def random_action(batch, rng):
+    return rng.integers(6, size=len(batch.pose))
+
+
+def train_small(houses, out, method, steps, init_ac=None, pool="approach", **settings):
     torch.set_num_threads(1)
-    config = replace(HouseAgentConfig(), method="a3c", num_envs=32, max_steps=30, steps=150_000, ac_lr=1e-3,
-                     curriculum_episodes=1000, checkpoint_every=10**9, log_every=50_000)
-    run = HouseTrainRun(config, tmp_path, houses, pool="approach")
+    config = replace(HouseAgentConfig(), method=method, num_envs=32, max_steps=30, steps=steps, curriculum_episodes=1000,
+                     checkpoint_every=10**9, log_every=50_000, **settings)
+    run = HouseTrainRun(config, out, houses, pool=pool)
+    if init_ac is not None:
+        run.policy.ac.load_state_dict(init_ac)
     run.begin()
     run.run(progress=False)
-    policy = run.policy
+    return run.policy
 
-    def learned(batch, rng):
-        from objsearch_agents.house.policy import _t, low_input
 
-        with torch.no_grad():
-            logits, _ = policy.ac(*map(_t, low_input(houses.tables, batch.hist, batch.target)))
-        return sample_actions(logits, rng)
+@pytest.fixture(scope="module")
+def approacher(houses, tmp_path_factory):
+    """A3C trained for a few minutes' worth of CPU less: 150k steps of the approach task."""
+    return train_small(houses, tmp_path_factory.mktemp("a3c"), "a3c", 150_000, ac_lr=1e-3)
 
-    rand = approach_success(houses, lambda b, rng: rng.integers(6, size=len(b.pose)))
-    mine = approach_success(houses, learned)
+
+def test_a3c_learns_to_approach_and_beats_random(houses, approacher):
+    mine = approach_success(houses, policy_act(houses, approacher))
+    rand = approach_success(houses, random_action)
     assert mine > rand + 0.2, (mine, rand)
+
+
+@pytest.fixture(scope="module")
+def one_target(cache_dir):
+    return TrainingHouses([SMALL], ["bed"], cache_dir, progress=False)
+
+
+@pytest.mark.parametrize("method, steps", [("dqn", 10_000), ("hdqn", 30_000), ("hrl_grg", 10_000)])
+def test_q_methods_learn_the_trivial_task_and_beat_random(one_target, approacher, tmp_path, method, steps):
+    """Find the house's one target from the nearest search starts (6 steps away) in 30
+    steps. DQN from scratch; the hierarchical high levels over the A3C above as their low
+    level (as shipped: the approach policy); each against random actions and against its
+    own untrained self, so that what it learned is measured."""
+    houses = one_target
+    settings = dict(lr=1e-3, learning_starts=500, update_every=4, target_update=1_000, eps_anneal_episodes=300,
+                    plan_every=5)
+    init = approacher.ac.state_dict() if method != "dqn" else None
+    trained = {n: train_small(houses, tmp_path / str(n), method, n, init, pool="search", **settings)
+               for n in (0, steps)}
+    untrained, mine = (approach_success(houses, policy_act(houses, trained[n], 0.05), pool="search") for n in (0, steps))
+    rand = approach_success(houses, random_action, pool="search")
+    assert mine > max(rand, untrained) + 0.2, (mine, untrained, rand)
 
 
 @pytest.mark.parametrize("method", ["a3c", "dqn", "hrl_grg"])

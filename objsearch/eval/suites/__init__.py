@@ -1,16 +1,26 @@
 """Evaluation suites: fixed, versioned episode sets and the env that plays them.
 
-A suite provides:
+``SUITES`` is the one registry of suite names: every list of suites (the CLI's help and
+checks, ``objsearch suite list``, the leaderboard) comes from it. It holds the grid world
+and the shipped house suites, whose names are declared with their builders
+(``objsearch.sim.suites.SUITE_NAMES``); besides them, the path of a suite file made by
+``objsearch suite make`` (``*.json``) names a house suite. Adding a suite:
+``docs/add_a_suite.md``.
 
-* ``name``, ``episode_set_version`` and ``splits`` (names, in report order);
+A suite class provides:
+
+* ``world``: ``gridworld`` or ``house``, the world agents declare they run in;
+* ``options``: the names of the config it accepts (``make_suite(name, **config)`` refuses
+  others; the CLI's suite flags are checked against them);
+* ``__init__(name, **config)``; ``name``, ``episode_set_version`` and ``splits`` (names,
+  in report order);
 * ``episodes(split) -> list[Episode]``: the fixed episodes of a split;
 * ``make_env() -> gymnasium.Env`` whose ``reset(options={"task": episode.task})`` starts
   the episode and whose ``info["success"]`` says whether it ended in success (the one
   definition of success, owned by the env);
-* ``config() -> dict``: the arguments that rebuild it (``make_suite(name, **config)``);
-* ``world``: ``gridworld`` or ``house``, the world agents declare they run in.
+* ``config() -> dict``: the config that rebuilds it (``make_suite(name, **config)``).
 
-Suites are looked up lazily by name in ``SUITES``.
+Classes are imported only when a suite is used.
 """
 
 from __future__ import annotations
@@ -21,15 +31,21 @@ from dataclasses import dataclass, field
 from typing import Any
 
 from objsearch.errors import UserError
+from objsearch.sim.suites import SUITE_NAMES as HOUSE_SUITES
 
+HOUSE_SUITE = "objsearch.eval.suites.house:HouseSuite"
 SUITES = {
     "gridworld": "objsearch.eval.suites.gridworld:GridWorldSuite",
-    "house-single": "objsearch.eval.suites.house:HouseSingleSuite",
-    "house-multi": "objsearch.eval.suites.house:HouseMultiSuite",
-    "house-gen": "objsearch.eval.suites.house:HouseGenSuite",
+    **dict.fromkeys(HOUSE_SUITES, HOUSE_SUITE),
 }
-DEFAULT_SUITE = "gridworld"
+SUITE_FILE = HOUSE_SUITE  # the class of a suite file (a path ending in .json)
+DEFAULT_SUITE = "house-single"  # what objsearch-eval runs without --suite: the main job
 WORLDS = ("gridworld", "house")
+
+
+def is_suite_file(name: str) -> bool:
+    """Whether ``name`` is the path of a suite file rather than a registered name."""
+    return name not in SUITES and name.endswith(".json")
 
 
 def suite_world(name: str) -> str:
@@ -60,19 +76,38 @@ class Episode:
     privileged: Any = field(default=None, repr=False, compare=False)
 
 
-def suite_class(name: str) -> type:
-    """The class of the suite ``name`` (imported on demand)."""
-    if name not in SUITES:
-        close = difflib.get_close_matches(name, list(SUITES), n=1)
-        hint = f"did you mean {close[0]!r}? " if close else ""
-        raise UserError(f"unknown suite {name!r}; {hint}known suites: {', '.join(SUITES)}")
-    module_name, _, cls_name = SUITES[name].partition(":")
+def _import(target: str) -> type:
+    module_name, _, cls_name = target.partition(":")
     return getattr(importlib.import_module(module_name), cls_name)
 
 
+def suite_class(name: str) -> type:
+    """The class of the suite ``name``, a registered name or a suite file (imported on demand)."""
+    if is_suite_file(name):
+        return _import(SUITE_FILE)
+    if name not in SUITES:
+        close = difflib.get_close_matches(name, list(SUITES), n=1)
+        hint = f"did you mean {close[0]!r}? " if close else ""
+        raise UserError(f"unknown suite {name!r}; {hint}known suites: {', '.join(SUITES)}, "
+                        "or a suite file (.json) made by objsearch suite make")
+    return _import(SUITES[name])
+
+
+def suites_taking(option: str) -> list[str]:
+    """The suites whose class accepts the config ``option`` (suite files listed as one)."""
+    names = [name for name in SUITES if option in suite_class(name).options]
+    return names + (["suite files (.json)"] if option in _import(SUITE_FILE).options else [])
+
+
 def make_suite(name: str, **config):
-    """Build the suite ``name`` with its config (e.g. ``maps``/``tasks`` for the grid world)."""
-    return suite_class(name)(**config)
+    """Build the suite ``name`` with its config (e.g. ``maps``/``tasks`` for the grid world);
+    a config key the suite's ``options`` lack is an error naming the suites that take it."""
+    cls = suite_class(name)
+    for option in config:
+        if option not in cls.options:
+            raise UserError(f"suite {name!r} takes no option {option!r} (it takes {', '.join(cls.options)}); "
+                            f"{option!r} is an option of {', '.join(suites_taking(option)) or 'no suite'}")
+    return cls(name, **config)
 
 
 def check_splits(suite, splits: list[str] | None) -> list[str]:

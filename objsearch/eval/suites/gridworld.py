@@ -31,18 +31,19 @@ class GridWorldSuite:
     """Grid world of HRL-GRG: splits ``seen-goals``, ``unseen-goals``, ``all-goals``.
 
     Args:
+        name: its registered name, ``gridworld``.
         maps: a directory of ``map_XXXX.npz`` (with ``tasks``) instead of the packaged test maps.
         tasks: a JSONL task file; the suite then has one split named after the file's stem.
         max_steps: step limit per episode (the paper's 100).
     """
 
     world = "gridworld"
+    options = ("maps", "tasks", "max_steps")
 
-    name = "gridworld"
-
-    def __init__(self, maps: str | None = None, tasks: str | None = None, max_steps: int = 100):
+    def __init__(self, name: str = "gridworld", maps: str | None = None, tasks: str | None = None, max_steps: int = 100):
         if (maps is None) != (tasks is None):
             raise UserError("--maps and --tasks go together: pass a map directory and a task file, or neither")
+        self.name = name
         self.maps_dir, self.tasks_file, self.max_steps = maps, tasks, int(max_steps)
         if tasks is None:
             self.episode_set_version = dataset.DATA_VERSION

@@ -1,4 +1,5 @@
-"""The house suites (``house-single``, ``house-multi``, ``house-gen``) in the harness.
+"""The house suites in the harness: the shipped ones (``objsearch.sim.suites.SUITE_NAMES``)
+and suite files made by ``objsearch suite make``, all played by ``HouseSuite``.
 
 Episodes come from the suite files of ``objsearch.sim.suites``; the env is
 ``ObjSearch/House-v0`` in ``cached`` mode by default (``objsearch cache build --suite NAME``
@@ -18,7 +19,7 @@ from objsearch.house.categories import CATEGORY_IDS
 from objsearch.sim.env import MODES, OBSERVATIONS, HouseEnv, HouseTask
 from objsearch.sim.goals import GOAL_CAMERA
 from objsearch.sim.navgraph import PoseGraph
-from objsearch.sim.suites import episode_task, house_refs, load_suite_file
+from objsearch.sim.suites import episode_task, house_refs, load_houses, load_suite_file
 from objsearch.sim.world import World
 from objsearch.errors import UserError
 
@@ -36,15 +37,16 @@ class HousePath:
 
 
 class HouseSuite:
-    """A house suite. Args: ``mode`` (``cached`` or ``live``), ``cache_dir``, ``max_steps``,
-    ``observation`` (``gt`` or ``predicted``), ``perception`` (the predicted mode's checkpoint;
-    default: the shipped one) and ``perception_key`` (if given, the checkpoint must have this
-    key: results record it, so a resumed or validated run uses the same network)."""
+    """A house suite: ``name`` is a shipped suite's name or a suite file's path. Options:
+    ``mode`` (``cached`` or ``live``), ``cache_dir``, ``max_steps``, ``observation`` (``gt`` or
+    ``predicted``), ``perception`` (the predicted mode's checkpoint; default: the shipped one)
+    and ``perception_key`` (if given, the checkpoint must have this key: results record it, so
+    a resumed or validated run uses the same network)."""
 
-    name = ""
     world = "house"
+    options = ("mode", "cache_dir", "max_steps", "observation", "perception", "perception_key")
 
-    def __init__(self, mode: str = "cached", cache_dir: str | None = None, max_steps: int | None = None,
+    def __init__(self, name: str, mode: str = "cached", cache_dir: str | None = None, max_steps: int | None = None,
                  observation: str = "gt", perception: str | None = None, perception_key: str | None = None):
         if mode not in MODES:
             raise UserError(f"unknown render mode {mode!r}; use one of {', '.join(MODES)}")
@@ -52,7 +54,7 @@ class HouseSuite:
             raise UserError(f"unknown observation {observation!r}; use one of {', '.join(OBSERVATIONS)}")
         if observation != "predicted" and (perception or perception_key):
             raise UserError("a perception checkpoint applies to predicted observations only (--observation predicted)")
-        self.data = load_suite_file(self.name)
+        self.name, self.data = name, load_suite_file(name)
         self.mode, self.cache_dir = mode, cache_dir
         self.max_steps = int(max_steps or self.data["max_steps"])
         self.episode_set_version = self.data["version"]
@@ -78,8 +80,7 @@ class HouseSuite:
 
     @cached_property
     def worlds(self) -> dict[str, World]:
-        worlds = [World.load(ref) for ref in house_refs(self.data)]
-        return {w.house_id: w for w in worlds}
+        return load_houses(self.data)
 
     def episodes(self, split: str) -> list[Episode]:
         out = []
@@ -99,7 +100,7 @@ class HouseSuite:
         return out
 
     def make_env(self) -> HouseEnv:
-        return HouseEnv(house_refs(self.data), mode=self.mode, max_steps=self.max_steps, cache_dir=self.cache_dir,
+        return HouseEnv(list(self.worlds.values()), mode=self.mode, max_steps=self.max_steps, cache_dir=self.cache_dir,
                         observation=self.observation, predictor=self.predictor)
 
     def write_video(self, directory: str, record: dict, episode: Episode, trajectory: list) -> None:
@@ -111,15 +112,3 @@ class HouseSuite:
         poses = [info["pose"] for _, info in trajectory]
         views = [obs["rgb"] for obs, _ in trajectory]
         write_episode(stem, self.worlds[episode.task.house], episode.task, poses, views)
-
-
-class HouseSingleSuite(HouseSuite):
-    name = "house-single"
-
-
-class HouseMultiSuite(HouseSuite):
-    name = "house-multi"
-
-
-class HouseGenSuite(HouseSuite):
-    name = "house-gen"

@@ -1,0 +1,148 @@
+"""Your own houses -> ``objsearch suite make`` -> ``objsearch-eval --suite FILE``, end to end
+on two small generated houses, and the one-line errors for bad houses."""
+
+import json
+import shutil
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+
+BIN = Path(sys.executable).parent
+
+
+def run(*args, cwd=None):
+    return subprocess.run([str(BIN / args[0]), *args[1:]], capture_output=True, text=True, cwd=cwd, timeout=300)
+
+
+def assert_clean_error(out, *needles):
+    assert out.returncode == 2, (out.returncode, out.stderr)
+    lines = out.stderr.strip().splitlines()
+    assert len(lines) == 1 and "Traceback" not in out.stderr, out.stderr
+    for needle in needles:
+        assert needle in lines[0], (needle, lines[0])
+
+
+@pytest.fixture(scope="module")
+def made(tmp_path_factory, cache_dir):
+    """``work/houses/`` (two small houses, as objsearch generate writes them) and
+    ``work/my-suite.json`` made from them."""
+    work = tmp_path_factory.mktemp("own-houses")
+    out = run("objsearch", "generate", "--seed", "3", "--num", "2", "--rooms", "small", "--no-preview", "--quiet",
+              "--out", "houses", cwd=work)
+    assert out.returncode == 0, out.stderr
+    out = run("objsearch", "suite", "make", "--houses", "houses", "--out", "my-suite.json", "--episodes", "20",
+              "--seed", "1", "--cache-dir", cache_dir, cwd=work)
+    assert out.returncode == 0, out.stderr
+    assert "objsearch-eval --suite my-suite.json" in out.stderr
+    return work
+
+
+def test_the_suite_file_is_made_as_the_shipped_ones_and_is_deterministic(made, cache_dir):
+    from objsearch.house.categories import CATEGORY_IDS
+    from objsearch.sim.cache import HouseCache
+    from objsearch.sim.env import START_STEPS
+    from objsearch.sim.goals import GOAL_CAMERA, goal_poses
+    from objsearch.sim.suites import TARGETS, load_houses, load_suite_file
+
+    path = made / "my-suite.json"
+    raw = json.loads(path.read_text())
+    shipped = load_suite_file("house-single")
+    assert list(raw) == list(shipped)  # the same fields, in the same order
+    for key in ("navgraph", "goal_rule", "goal_camera", "start_steps", "max_steps"):
+        assert raw[key] == shipped[key], key
+    assert raw["version"].startswith("custom:") and raw["training_houses"] == {}
+    assert raw["houses"] == {
+        hid: {"path": f"houses/{hid}", "spec_sha256": raw["houses"][hid]["spec_sha256"]} for hid in ("train_000003", "train_000004")
+    }
+    targets = raw["categories"]["targets"]
+    assert targets and set(targets) <= set(TARGETS) and targets == sorted(targets)
+    (split,) = raw["splits"]
+    assert split == "my-suite" and len(raw["splits"][split]) == 20
+
+    worlds = load_houses(load_suite_file(str(path)))  # house paths resolved against the file's folder
+    for hid, world in worlds.items():
+        assert world.spec_sha256 == raw["houses"][hid]["spec_sha256"]
+        cache = HouseCache.open(world, GOAL_CAMERA, cache_dir, progress=False)
+        for target, poses in raw["goals"][hid].items():  # the goal rule's poses, as for the shipped suites
+            ids = goal_poses(cache.semantic, cache.depth, CATEGORY_IDS[target])
+            assert [list(world.graph.pose_of(int(i))) for i in ids] == poses, (hid, target)
+    for item in raw["splits"][split]:
+        graph = worlds[item["house"]].graph
+        dist = graph.shortest_steps([graph.pose_id(*g) for g in raw["goals"][item["house"]][item["target"]]])
+        assert dist[graph.pose_id(*item["start"])] == item["min_steps"]
+        assert START_STEPS[0] <= item["min_steps"] <= START_STEPS[1]
+
+    before = path.read_bytes()
+    args = ["--houses", "houses", "--episodes", "20", "--cache-dir", cache_dir]
+    assert run("objsearch", "suite", "make", *args, "--seed", "1", "--out", "my-suite.json", cwd=made).returncode == 0
+    assert path.read_bytes() == before  # the same houses, seed and paths: the same bytes
+    other = run("objsearch", "suite", "make", *args, "--seed", "2", "--targets", "bed,sofa", "--out", "other.json", cwd=made)
+    assert other.returncode == 0, other.stderr
+    other = json.loads((made / "other.json").read_text())
+    assert other["categories"] == {"targets": ["bed", "sofa"]} and {t for g in other["goals"].values() for t in g} <= {"bed", "sofa"}
+    assert other["version"] != raw["version"]
+
+
+def test_oracle_is_perfect_on_the_made_suite_and_random_is_not(made, cache_dir, tmp_path):
+    out = run("objsearch-eval", "--agent", "oracle", "--suite", "my-suite.json", "--seeds", "1", "--cache-dir", cache_dir,
+              "--out", str(tmp_path / "r.json"), "--quiet", cwd=made)
+    assert out.returncode == 0, out.stderr
+    results = json.loads((tmp_path / "r.json").read_text())
+    assert results["suite"] == "my-suite.json" and results["episode_set_version"].startswith("custom:")
+    split = results["splits"]["my-suite"]
+    assert split["sr"] == 1.0 and split["spl"] == 1.0 and split["episodes"] == 20
+
+    # the file names its houses relative to itself: moved together with them, it still works
+    moved = tmp_path / "elsewhere"
+    shutil.copytree(made / "houses", moved / "houses")
+    shutil.copy(made / "my-suite.json", moved / "my-suite.json")
+    out = run("objsearch-eval", "--agent", "random", "--suite", str(moved / "my-suite.json"), "--seeds", "1",
+              "--cache-dir", cache_dir, "--quiet")
+    assert out.returncode == 0, out.stderr
+    assert "My Suite" in out.stdout
+
+
+def _spoil(folder: Path, how: str) -> None:
+    house = folder / "houses" / "train_000004"
+    if how == "missing folder":
+        shutil.rmtree(house)
+    elif how == "changed spec.json":  # a whole other house in its place: only the recorded hash tells
+        shutil.rmtree(house)
+        shutil.copytree(folder / "houses" / "train_000003", house)
+    elif how == "edited house.xml":  # still loads, but is no longer what spec.json describes
+        xml = (house / "house.xml").read_text()
+        assert "<worldbody>" in xml
+        (house / "house.xml").write_text(xml.replace("<worldbody>", "<worldbody><geom size='0.1'/>", 1))
+    elif how == "broken house.xml":
+        (house / "house.xml").write_text("<mujoco><worldbody>")
+
+
+@pytest.mark.parametrize("how, message", [
+    ("missing folder", "is missing"),
+    ("changed spec.json", "changed after the suite was made"),
+    ("edited house.xml", "no longer matches its house.xml"),
+    ("broken house.xml", "cannot load house"),
+])
+def test_a_bad_house_stops_the_evaluation_naming_it(made, tmp_path, how, message):
+    shutil.copytree(made / "houses", tmp_path / "houses")
+    shutil.copy(made / "my-suite.json", tmp_path / "my-suite.json")
+    _spoil(tmp_path, how)
+    out = run("objsearch-eval", "--agent", "oracle", "--suite", "my-suite.json", "--seeds", "1", "--quiet", cwd=tmp_path)
+    assert_clean_error(out, "house train_000004", message)
+
+
+def test_bad_houses_and_arguments_stop_suite_make_naming_them(made, tmp_path):
+    shutil.copytree(made / "houses", tmp_path / "houses")
+    _spoil(tmp_path, "broken house.xml")
+    make = ("objsearch", "suite", "make", "--out", "s.json")
+    assert_clean_error(run(*make, "--houses", "houses", cwd=tmp_path), "house train_000004", "cannot load house")
+    assert not (tmp_path / "s.json").exists()
+    assert_clean_error(run(*make, "--houses", "nowhere", cwd=tmp_path), "houses folder nowhere does not exist")
+    (tmp_path / "empty").mkdir()
+    assert_clean_error(run(*make, "--houses", "empty", cwd=tmp_path), "no houses under empty")
+    assert_clean_error(run(*make, "--houses", str(made / "houses"), "--targets", "bedd", cwd=tmp_path),
+                       "unknown target category 'bedd'", "did you mean 'bed'")
+    assert_clean_error(run("objsearch", "suite", "make", "--houses", "houses", "--out", "s.txt", cwd=tmp_path), "ends in .json")
+    assert_clean_error(run("objsearch-eval", "--suite", "none.json", cwd=tmp_path), "suite file none.json does not exist")

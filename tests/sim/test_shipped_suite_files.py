@@ -1,0 +1,33 @@
+"""The shipped house suite files are the benchmark: their bytes and versions never change
+by accident, and they are written as ``objsearch suite rebuild`` writes them."""
+
+import hashlib
+
+import pytest
+
+from objsearch.sim.suites import DATA_DIR, SUITE_NAMES, load_suite_file, write_suite_file
+
+# Change one of these only with a deliberate rebuild (objsearch suite rebuild NAME) and a new version.
+SHIPPED = {
+    "house-single": ("house-single-v1", "92605b57d05a25798de3476edf63f8415f3e998fc6b2458799985981fdad1fda"),
+    "house-multi": ("house-multi-v1", "3f68c77d2efbd5b28ab0f1cd9e36b187a09a1be34842bfdab716e2b9e959a306"),
+    "house-gen": ("house-gen-v1", "6e206f26a198e48096b684235e5cb1054fe1068e8950c7ca4d1e331bc7122a09"),
+}
+
+
+def test_every_shipped_suite_has_its_file_and_no_other_file_is_shipped():
+    assert set(SUITE_NAMES) == set(SHIPPED)
+    assert sorted(p.stem for p in DATA_DIR.glob("*.json")) == sorted(SHIPPED)
+
+
+@pytest.mark.parametrize("name", SUITE_NAMES)
+def test_shipped_file_loads_with_its_version_and_bytes(name, tmp_path):
+    version, sha256 = SHIPPED[name]
+    path = DATA_DIR / f"{name}.json"
+    assert hashlib.sha256(path.read_bytes()).hexdigest() == sha256, f"{path} changed: rebuild deliberately, bump its version"
+    suite = load_suite_file(name)
+    assert suite["suite"] == name and suite["version"] == version and suite["navgraph"] == "navgraph-v1"
+    assert all(len(info["spec_sha256"]) == 64 and "seed" in info for info in suite["houses"].values())
+    # the writer of objsearch suite rebuild and objsearch suite make gives these bytes back
+    write_suite_file(tmp_path / "again.json", suite)
+    assert (tmp_path / "again.json").read_bytes() == path.read_bytes()
