@@ -9,10 +9,11 @@ house-single ``hrl_grg`` on ``house-single`` (split ``seen-goals``, seed 1: 100 
 the full protocol is 10 x that). Each pair also checks that the records are identical.
 Then the wall time of one learned agent's full protocol (every split, the paper's 5 seeds),
 as ``objsearch-eval --batch N --workers 2`` runs it, start-up included: ``hrl_grg`` on the
-grid world (7,500 episodes) and on ``house-single`` (1,000).
+grid world (1,500 episodes; one at a time and ``--batch 64``) and on ``house-single``
+(1,000; ``--batch 32``).
 With ``--json`` the last line is one JSON object: for each ``<suite>/<agent>``,
 ``{"batched": episodes/s, "single": episodes/s, "speedup": x, "identical": bool}``, and
-``"protocol": {"<suite>/<agent>": {"episodes": n, "wall_s": s}}``.
+``"protocol": {"<suite>/<agent>/batch<N>": {"episodes": n, "wall_s": s}}``.
 """
 
 from __future__ import annotations
@@ -26,7 +27,7 @@ os.environ.setdefault("MUJOCO_GL", "egl")
 
 from objsearch.eval.runner import EvalConfig, evaluate  # noqa: E402
 
-PROTOCOL = (("gridworld", "hrl_grg", 64), ("house-single", "hrl_grg", 32))
+PROTOCOL = (("gridworld", "hrl_grg", 1), ("gridworld", "hrl_grg", 64), ("house-single", "hrl_grg", 32))
 CASES = (("gridworld", "hrl_grg", "all-goals"), ("gridworld", "dqn", "all-goals"),
          ("house-single", "random", "seen-goals"), ("house-single", "hrl_grg", "seen-goals"))
 
@@ -60,7 +61,7 @@ def main() -> None:
         start = time.perf_counter()
         results = evaluate(EvalConfig(agent=agent, suite=suite), progress=False, workers=2, batch=batch)
         wall = round(time.perf_counter() - start, 1)
-        figures["protocol"][f"{suite}/{agent}"] = {"episodes": len(results["episodes"]), "wall_s": wall}
+        figures["protocol"][f"{suite}/{agent}/batch{batch}"] = {"episodes": len(results["episodes"]), "wall_s": wall}
         print(f"{suite:13s} {agent:8s} full protocol: {len(results['episodes'])} episodes in {wall} s "
               f"(--workers 2 --batch {batch})")
     if args.json:

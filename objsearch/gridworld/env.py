@@ -49,8 +49,9 @@ class GridWorldEnv(gymnasium.Env):
     ``position`` (row, col).
 
     ## Arguments
-    ``maps``: a directory of ``map_XXXX.npz`` files, a list of ``GridMap``, or None for the
-    packaged training maps. ``goals``: goal ids to draw from (default: the 12 training
+    ``maps``: a directory of ``map_XXXX.npz`` files, a list of ``GridMap``, their built
+    ``GridTables`` (envs that play side by side share them), or None for the packaged
+    training maps. ``goals``: goal ids to draw from (default: the 12 training
     goals; None: all of them). ``observation``: ``"goal"`` or ``"all_goals"``. ``max_steps``: 100.
 
     ## Version History
@@ -61,7 +62,7 @@ class GridWorldEnv(gymnasium.Env):
 
     def __init__(
         self,
-        maps: str | os.PathLike | Sequence[GridMap] | None = None,
+        maps: str | os.PathLike | Sequence[GridMap] | GridTables | None = None,
         goals: Sequence[int] | None = SEEN_GOALS,
         observation: str = "goal",
         max_steps: int = 100,
@@ -78,8 +79,9 @@ class GridWorldEnv(gymnasium.Env):
         if render_mode is not None and render_mode not in self.metadata["render_modes"]:
             raise ValueError(f"render_mode must be one of {self.metadata['render_modes']}, not {render_mode!r}")
         self.render_mode = render_mode
+        tables = maps if isinstance(maps, GridTables) else GridTables.build(list(maps))
         self._world = BatchedGridWorld(
-            GridTables.build(list(maps)), 1, goals=goals, observation=observation, max_steps=max_steps, autoreset=False
+            tables, 1, goals=goals, observation=observation, max_steps=max_steps, autoreset=False
         )
         tables = self._world.tables
         self.observation_space = spaces.Dict(

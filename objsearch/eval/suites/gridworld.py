@@ -10,6 +10,7 @@ from pathlib import Path
 
 from objsearch.eval.suites import Episode
 from objsearch.gridworld import dataset
+from objsearch.gridworld.batched import GridTables
 from objsearch.gridworld.env import GridWorldEnv
 from objsearch.gridworld.maps import GridMap, load_map_dir, shortest_path_actions
 from objsearch.gridworld.tasks import GridTask, load_tasks
@@ -56,6 +57,11 @@ class GridWorldSuite:
         return {"maps": self.maps_dir, "tasks": self.tasks_file, "max_steps": self.max_steps}
 
     @cached_property
+    def grid_tables(self) -> GridTables:
+        """The maps' tables, built once and shared by the envs of every slot."""
+        return GridTables.build(list(self.grid_maps.values()))
+
+    @cached_property
     def grid_maps(self) -> dict[str, GridMap]:
         return dataset.test_maps() if self.maps_dir is None else load_map_dir(self.maps_dir)
 
@@ -82,7 +88,7 @@ class GridWorldSuite:
 
     def make_env(self) -> GridWorldEnv:
         return GridWorldEnv(
-            maps=list(self.grid_maps.values()),
+            maps=self.grid_tables,
             goals=None,
             observation="all_goals",
             max_steps=self.max_steps,
