@@ -1,6 +1,6 @@
 """Advantage actor-critic updates (the synchronous, batched form of A3C; Mnih et al. 2016).
 
-The paper's A3C runs one worker thread (``hrl_grg_notes.md``: every train.sh sets
+The paper's A3C runs one worker thread (the authors' train.sh scripts all set
 num_threads=1) and updates every 10 steps. Here N episodes run in lockstep and one update
 uses all N x 10 transitions of a rollout: the same n-step returns and loss, one forward
 pass for all envs, which is what makes it fast on a CPU.

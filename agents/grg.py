@@ -11,8 +11,9 @@ categories ``k = 1..K`` ("j is first seen after k low-level steps") and one last
 with ``w_ii = 1``. Planning finds, for every node, the plan to a target that maximises the
 product of edge weights (Dijkstra on ``-log w``, run backwards from the target); its value
 ``C`` is the relation of the node to the target. Facts the paper leaves open (the prior
-``(0, ..., 0, 1)``, how options are counted, the termination rule) follow
-``shared/reference/hrl_grg_notes.md``.
+``(0, ..., 0, 1)``, how options are counted, the termination rule) follow the authors'
+code, as ``docs/gridworld_agents.md`` ("Choices and deviations") and ``docs/house_agents.md``
+("The hierarchy") write them down.
 
 The module knows nothing about grids or any simulator: a node is an index, an option's
 outcome is "on which step was each node first seen". The grid-world and 3D agents share it.

@@ -1,6 +1,6 @@
 """The one configuration of the grid-world learning agents (DQN, h-DQN, HRL-GRG and its
-ablations): the paper's protocol (appendix A.2, table 6) plus the facts of
-``shared/reference/hrl_grg_notes.md``. It is written as ``config.json`` next to every
+ablations): the paper's protocol (appendix A.2, table 6) plus what the authors' code
+settles (``docs/gridworld_agents.md``). It is written as ``config.json`` next to every
 checkpoint, so a run can be rebuilt from the file alone."""
 
 from __future__ import annotations

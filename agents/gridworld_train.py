@@ -15,7 +15,7 @@ forward pass per level per step:
   low level one per step of a real sub-goal with the intrinsic reward (1 and terminal on
   reaching it). Nothing is stored for the "random" sub-goal's steps at the low level.
 
-Deviations forced by batching (documented in ``docs/gridworld_training.md``):
+Deviations forced by batching (documented in ``docs/gridworld_agents.md``, "Choices and deviations"):
 
 * "An update every 10 steps" and "a target copy every 10,000 steps" count environment
   transitions summed over the parallel envs: a batched step of N envs earns N / 10 updates

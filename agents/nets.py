@@ -1,4 +1,4 @@
-"""The grid-world Q-networks of HRL-GRG (paper appendix A.1, ``hrl_grg_notes.md``).
+"""The grid-world Q-networks of HRL-GRG (paper appendix A.1, as the authors' code builds them).
 
 Every network shares one convolutional trunk on a 7x7 window:
 

@@ -28,7 +28,7 @@ def test_installed_example_is_listed_and_evaluated_by_name(installed_example, tm
     listed = subprocess.run([str(BIN / "objsearch-eval"), "--list-agents"], env=installed_example, capture_output=True, text=True)
     assert "greedy_visible" in listed.stdout
     out = subprocess.run(
-        [str(BIN / "objsearch-eval"), "--agent", "greedy_visible", "--split", "unseen-goals", "--seeds", "1,5",
+        [str(BIN / "objsearch-eval"), "--agent", "greedy_visible", "--suite", "gridworld", "--split", "unseen-goals", "--seeds", "1,5",
          "--quiet", "--out", str(tmp_path / "greedy.json")],
         env=installed_example, capture_output=True, text=True, timeout=300,
     )
@@ -41,7 +41,7 @@ def test_installed_example_is_listed_and_evaluated_by_name(installed_example, tm
 
 def test_agent_by_module_path(tmp_path):
     out = subprocess.run(
-        [str(BIN / "objsearch-eval"), "--agent", "objsearch_agents.random_agent:RandomAgent", "--split", "all-goals",
+        [str(BIN / "objsearch-eval"), "--agent", "objsearch_agents.random_agent:RandomAgent", "--suite", "gridworld", "--split", "all-goals",
          "--seeds", "1", "--quiet"],
         capture_output=True, text=True, timeout=300,
     )

@@ -95,6 +95,8 @@ class HouseAgentConfig:
             raise UserError(f"method must be one of {METHODS}, not {self.method!r}")
         if self.observation not in ("gt", "predicted"):
             raise UserError(f"observation must be gt or predicted, not {self.observation!r}")
+        if self.explorer and not self.hierarchical:
+            raise UserError(f"explorer applies to the hierarchical methods (hdqn, hrl_grg), not {self.method}; drop it")
         require_at_least(self, ("num_envs", "max_steps", "option_steps", "batch_size", "replay_size", "update_every",
                                 "target_update", "rollout", "eps_anneal_episodes", "curriculum_episodes",
                                 "plan_every", "checkpoint_every", "log_every"), 1)

@@ -1,4 +1,4 @@
-"""The House3D networks of HRL-GRG (paper appendix B.2, ``hrl_grg_notes.md`` section 1).
+"""The House3D networks of HRL-GRG (paper appendix B.2, as the authors' code builds them).
 
 Inputs are 4 frames of 10x10 maps, flattened to 400 values per stream:
 

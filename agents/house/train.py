@@ -1,8 +1,8 @@
 """Training the house agents on their suite's training houses (``objsearch train``).
 
 N episodes run in lockstep on observation tables (``episodes.EpisodeBatch``); one forward
-pass per level per step. The paper's protocol (appendix B.3), as the authors' code runs it
-(``hrl_grg_notes.md``), with the deviations written in ``docs/house_agents.md``:
+pass per level per step. The paper's protocol (appendix B.3), as the authors' code runs it,
+with the deviations written in ``docs/house_agents.md``:
 
 * The actor-critic (A3C, and the low level of the hierarchical methods) is first
   pretrained to approach a visible object: 50-step episodes from poses that see the

@@ -5,7 +5,7 @@ BFS distances from every goal, the whole 7x7 observation seen from every cell), 
 a handful of array gathers whatever N is. ``GridWorldEnv`` (the Gymnasium env) is this
 simulator with N = 1; training code uses it directly with large N.
 
-Dynamics (``shared/reference/hrl_grg_notes.md``): actions up, down, left, right; a move
+Dynamics (the paper's section 4.1, as the authors' code runs it): actions up, down, left, right; a move
 into an obstacle or off the map leaves the agent in place; reward 1 and termination when
 the agent stands on the episode's goal; truncation after ``max_steps`` steps. The window is
 centred on the agent, not rotated, and cells outside the map read as obstacle.

@@ -4,7 +4,7 @@ A map is a 16x16 grid whose border is obstacle, with 16 goals on distinct free c
 goals form two chains, g0..g7 and g8..g15: g0 and g8 are placed anywhere free, and every
 other g(i) lies inside the 7x7 window centred on g(i-1) but not in its inner 3x3 (the
 published maps always have Chebyshev distance 2 or 3 between chain neighbours). All goals
-are mutually reachable (4-connected). Facts: ``shared/reference/hrl_grg_notes.md``.
+are mutually reachable (4-connected), as in the maps the authors published with their code.
 
 File format (a directory of maps): ``map_XXXX.npz`` with
 ``obstacles``: uint8 HxW, 1 = obstacle, and ``goals``: int Gx2 (row, col), index = goal id.
