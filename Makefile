@@ -43,7 +43,7 @@ LEADERBOARD_GREEDY ?= dqn_greedy=objsearch_agents.dqn:DQNGreedyAgent hdqn_greedy
 # house agents with shipped checkpoints: suite:agent, each evaluated on gt and on predicted observations
 LEADERBOARD_HOUSE ?= house-single:a3c house-single:dqn house-single:hdqn house-single:hrl_grg \
 	house-multi:a3c house-multi:dqn house-multi:hdqn house-multi:hrl_grg
-# gt only for now: predicted observations of house-gen's 20 houses are a 40-minute cache build
+# gt only for now: predicted observations of house-gen's 20 houses are a 12-minute cache build
 LEADERBOARD_HOUSE_GT ?= house-gen:a3c house-gen:dqn house-gen:hrl_grg
 leaderboard: $(STAMP)
 	mkdir -p build && date +%s > build/.leaderboard-start
