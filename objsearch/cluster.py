@@ -14,6 +14,8 @@ import argparse
 import concurrent.futures as cf
 import contextlib
 import multiprocessing
+import os
+import sys
 from typing import Callable, Iterable
 
 from objsearch.cliargs import positive_int
@@ -35,12 +37,26 @@ def add_executor_arguments(parser: argparse.ArgumentParser, output: str) -> None
                              "(default: 1 locally, every core with --executor ray)")
 
 
+def check_address(address: str | None, executor: str) -> None:
+    """A Ray ``--address`` needs ``--executor ray``: refuse it with any other executor."""
+    if address and executor != "ray":
+        raise UserError(f"--address {address} needs --executor ray; add it, or drop --address to run here")
+
+
 def check_executor_arguments(args: argparse.Namespace) -> None:
     """Refuse combinations of ``add_executor_arguments``' flags that would be ignored."""
-    if args.address is not None and args.executor != "ray":
-        raise UserError(f"--address {args.address} needs --executor ray; add it, or drop --address to run here")
+    check_address(args.address, args.executor)
     if args.workers is not None and args.address is not None:
         raise UserError("--workers sizes a run on this machine; with --address the cluster's CPUs decide: drop --workers")
+
+
+def one_math_thread() -> None:
+    """In a worker process that shares the cores with others: one math thread (OpenMP, MKL,
+    torch). Two processes of 2 torch threads each on 2 cores made small networks' forward
+    passes 4x slower (``benchmarks/RESULTS.md``, "Evaluation")."""
+    os.environ["OMP_NUM_THREADS"] = os.environ["MKL_NUM_THREADS"] = "1"
+    if "torch" in sys.modules:
+        sys.modules["torch"].set_num_threads(1)
 
 
 @contextlib.contextmanager
@@ -112,7 +128,7 @@ def map_houses(fn: Callable, items: Iterable, executor: str = "local", address: 
                 bar.update()
         else:
             context = multiprocessing.get_context("spawn")  # no fork: torch and EGL dislike it
-            with cf.ProcessPoolExecutor(workers, mp_context=context) as pool:
+            with cf.ProcessPoolExecutor(workers, mp_context=context, initializer=one_math_thread) as pool:
                 futures = {pool.submit(fn, item): i for i, item in enumerate(items)}
                 try:
                     for future in cf.as_completed(futures):

@@ -17,6 +17,7 @@ SUITE_FLAGS = {"maps": "maps", "tasks": "tasks", "max_steps": "max_steps", "rend
 
 
 def configure(parser: argparse.ArgumentParser) -> argparse.ArgumentParser:
+    from objsearch.cluster import EXECUTORS
     from objsearch.eval.runner import PAPER_SEEDS
     from objsearch.eval.suites import DEFAULT_SUITE, SUITES
 
@@ -51,7 +52,7 @@ def configure(parser: argparse.ArgumentParser) -> argparse.ArgumentParser:
         "--step-time-limit", type=seconds, default=10.0, metavar="SECONDS",
         help="an agent call that takes longer fails its episode (default: 10; 0: no limit)",
     )
-    parser.add_argument("--executor", choices=("local", "ray"), default="local", help="local processes or a Ray cluster")
+    parser.add_argument("--executor", choices=EXECUTORS, default="local", help="local processes or a Ray cluster")
     parser.add_argument("--address", help="Ray cluster address (default: start a local cluster)")
     parser.add_argument("--video", metavar="DIR", help="house suites: write each episode's map (PNG) and view (MP4) here")
     parser.add_argument("--list-agents", action="store_true", help="list the installed agents and exit")
@@ -79,10 +80,10 @@ def run(args: argparse.Namespace) -> int:
     from objsearch.eval.results import format_table
     from objsearch.eval.runner import EvalConfig, evaluate
 
+    from objsearch.cluster import check_address
     from objsearch.eval.suites import DEFAULT_SUITE
 
-    if args.address and args.executor != "ray":
-        raise UserError(f"--address {args.address} needs --executor ray; add it, or drop --address to run here")
+    check_address(args.address, args.executor)
     if args.suite is None:
         args.suite = "gridworld" if args.maps or args.tasks else DEFAULT_SUITE
     config = EvalConfig(

@@ -14,14 +14,13 @@ from __future__ import annotations
 import concurrent.futures as cf
 import json
 import multiprocessing
-import os
-import sys
 from dataclasses import asdict, dataclass, field
 from pathlib import Path
 from typing import Callable, Iterable
 
 from tqdm import tqdm
 
+from objsearch.cluster import EXECUTORS, one_math_thread
 from objsearch.errors import UserError
 from objsearch.eval.episode import episode_rng, run_episode  # noqa: F401  (episode_rng: part of this module's API)
 from objsearch.eval.lockstep import play_lockstep
@@ -29,7 +28,6 @@ from objsearch.eval.registry import make_agent
 from objsearch.eval.suites import Episode, check_splits, make_suite
 
 PAPER_SEEDS = (1, 5, 13, 45, 99)
-EXECUTORS = ("local", "ray")
 Unit = tuple[str, int, int]  # (split, seed, episode_id)
 
 
@@ -111,11 +109,7 @@ _worker: Worker | None = None
 
 def _init_worker(config: EvalConfig, video_dir: str | None, batch: int) -> None:
     global _worker
-    # Worker processes share the cores: one math thread each. Several threads per process
-    # made small networks' forward passes (grid world, batch 1) 4x slower on 2 cores.
-    os.environ["OMP_NUM_THREADS"] = os.environ["MKL_NUM_THREADS"] = "1"
-    if "torch" in sys.modules:
-        sys.modules["torch"].set_num_threads(1)
+    one_math_thread()
     _worker = Worker(config, video_dir, batch)
 
 

@@ -83,7 +83,6 @@ class GridWorldEnv(gymnasium.Env):
         self._world = BatchedGridWorld(
             tables, 1, goals=goals, observation=observation, max_steps=max_steps, autoreset=False
         )
-        tables = self._world.tables
         self.observation_space = spaces.Dict(
             {
                 "image": spaces.Box(0, 1, (self._world.num_channels, WINDOW, WINDOW), dtype=np.uint8),
