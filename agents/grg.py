@@ -29,6 +29,7 @@ from pathlib import Path
 
 import numpy as np
 
+from objsearch import digests
 from objsearch.errors import UserError
 from objsearch.fileio import atomic_write
 
@@ -240,14 +241,17 @@ class GoalsRelationalGraph:
         return graph
 
     def save(self, path: str | os.PathLike) -> None:
-        """Write the graph (counts, prior, gamma) to a compressed ``.npz`` file atomically."""
+        """Write the graph (counts, prior, gamma) to a compressed ``.npz`` file atomically, and
+        record its digest in ``SHA256SUMS`` beside it."""
         with atomic_write(path, "wb") as f:
             np.savez_compressed(f, **self.state_dict())
+        digests.record(path)
 
     @classmethod
     def load(cls, path: str | os.PathLike) -> "GoalsRelationalGraph":
         path = Path(path)
         try:
+            digests.verify(path)
             with np.load(path, allow_pickle=False) as data:
                 return cls.from_state_dict({key: data[key] for key in ("counts", "prior", "gamma", "observable")})
         except (OSError, ValueError, KeyError) as err:

@@ -21,6 +21,7 @@ from pathlib import Path
 
 import numpy as np
 
+from objsearch import digests, torchfile
 from objsearch.errors import UserError
 from objsearch.eval.agent import AgentTask
 from objsearch_agents.gridworld_config import GridAgentConfig
@@ -93,18 +94,22 @@ class GridAgent:
         if not path.exists():
             raise UserError(f"checkpoint {path} does not exist; pass a policy.pt or a training run directory")
         state = load_policy_file(path)
-        saved = GridAgentConfig.from_json(state["config"])
-        mine = self.config
-        if (saved.method, saved.relation, saved.termination, saved.high_level) != (mine.method, mine.relation, mine.termination, mine.high_level):
-            raise UserError(f"checkpoint {path} was trained as {describe(saved)}, not {describe(mine)}; pick the matching --agent")
-        self._build(saved, int(state["num_goals"]))
-        self.policy.low.load_state_dict(state["low"])
-        if self.policy.high is not None:
-            self.policy.high.load_state_dict(state["high"])
+        files = [path]
+        with torchfile.fitting(path, "a grid-world policy.pt written by objsearch train"):
+            saved = GridAgentConfig.from_json(state["config"])
+            mine = self.config
+            if (saved.method, saved.relation, saved.termination, saved.high_level) != (mine.method, mine.relation, mine.termination, mine.high_level):
+                raise UserError(f"checkpoint {path} was trained as {describe(saved)}, not {describe(mine)}; pick the matching --agent")
+            self._build(saved, int(state["num_goals"]))
+            self.policy.low.load_state_dict(state["low"])
+            if self.policy.high is not None:
+                self.policy.high.load_state_dict(state["high"])
         if self.policy.grg is not None:
-            self.policy.grg = GoalsRelationalGraph.load(path.parent / GRG_FILE)
+            files.append(path.parent / GRG_FILE)
+            self.policy.grg = GoalsRelationalGraph.load(files[-1])
             self.policy.refresh_plans()
         self.loaded_from = str(path)
+        self.weights_sha256 = digests.of_files(files)
 
     # -- the protocol (one episode, or N in lockstep: the same code) -------------------------
     def reset(self, task: AgentTask) -> None:

@@ -13,9 +13,13 @@ from __future__ import annotations
 import argparse
 import concurrent.futures as cf
 import contextlib
+import ctypes
 import multiprocessing
 import os
+import signal
 import sys
+import threading
+import time
 from typing import Callable, Iterable
 
 from objsearch.cliargs import positive_int
@@ -57,6 +61,53 @@ def one_math_thread() -> None:
     os.environ["OMP_NUM_THREADS"] = os.environ["MKL_NUM_THREADS"] = "1"
     if "torch" in sys.modules:
         sys.modules["torch"].set_num_threads(1)
+
+
+PR_SET_PDEATHSIG = 1  # linux/prctl.h
+
+
+def die_with_parent(parent: int) -> None:
+    """Make this worker process exit when the process ``parent`` that started it dies, even
+    by SIGKILL: the kernel's parent-death signal on Linux, and everywhere a thread that
+    watches the parent's pid."""
+    if sys.platform.startswith("linux"):
+        try:
+            ctypes.CDLL(None, use_errno=True).prctl(PR_SET_PDEATHSIG, signal.SIGKILL)
+        except (OSError, AttributeError):
+            pass
+
+    def watch() -> None:
+        while os.getppid() == parent:
+            time.sleep(0.5)
+        os._exit(1)
+
+    if os.getppid() != parent:  # it died before the signal was set
+        os._exit(1)
+    threading.Thread(target=watch, name="die-with-parent", daemon=True).start()
+
+
+def _start_worker(parent: int, initializer: Callable | None, initargs: tuple) -> None:
+    die_with_parent(parent)
+    one_math_thread()
+    if initializer is not None:
+        initializer(*initargs)
+
+
+@contextlib.contextmanager
+def local_pool(workers: int, initializer: Callable | None = None, initargs: tuple = ()):
+    """Spawned worker processes (no fork: torch and EGL dislike it) that run one math
+    thread and die with this process; on an error (Ctrl-C, a crash) they are stopped at
+    once, not after their tasks."""
+    pool = cf.ProcessPoolExecutor(workers, mp_context=multiprocessing.get_context("spawn"), initializer=_start_worker,
+                                  initargs=(os.getpid(), initializer, initargs))
+    try:
+        yield pool
+    except BaseException:
+        for process in list((getattr(pool, "_processes", None) or {}).values()):  # private, but no public way
+            process.terminate()
+        pool.shutdown(wait=False, cancel_futures=True)
+        raise
+    pool.shutdown()
 
 
 @contextlib.contextmanager
@@ -127,16 +178,11 @@ def map_houses(fn: Callable, items: Iterable, executor: str = "local", address: 
                 results[i] = fn(item)
                 bar.update()
         else:
-            context = multiprocessing.get_context("spawn")  # no fork: torch and EGL dislike it
-            with cf.ProcessPoolExecutor(workers, mp_context=context, initializer=one_math_thread) as pool:
+            with local_pool(workers) as pool:
                 futures = {pool.submit(fn, item): i for i, item in enumerate(items)}
-                try:
-                    for future in cf.as_completed(futures):
-                        results[futures[future]] = future.result()
-                        bar.update()
-                except BaseException:
-                    pool.shutdown(cancel_futures=True)
-                    raise
+                for future in cf.as_completed(futures):
+                    results[futures[future]] = future.result()
+                    bar.update()
     return results
 
 

@@ -5,17 +5,20 @@ Python data only, so a file can never run code when it is opened. numpy arrays (
 memories, option state) are stored as tensors marked ``{"__ndarray__": tensor}``, numpy
 scalars as Python numbers, and restored on reading. A file that cannot be read (missing,
 empty, truncated, damaged, not a checkpoint, or holding something other than data) is a
-``UserError`` naming the file and what was expected.
+``UserError`` naming the file and what was expected. Every file written is recorded in its
+folder's ``SHA256SUMS`` and checked against it when read (``objsearch.digests``).
 """
 
 from __future__ import annotations
 
+import contextlib
 import os
 from pathlib import Path
 
 import numpy as np
 import torch
 
+from objsearch import digests
 from objsearch.errors import UserError
 from objsearch.fileio import atomic_write
 
@@ -47,9 +50,11 @@ def from_saved(obj):
 
 
 def save(path: str | os.PathLike, obj) -> None:
-    """Write ``obj`` (tensors, numpy arrays, plain data) to ``path`` atomically."""
+    """Write ``obj`` (tensors, numpy arrays, plain data) to ``path`` atomically, and record
+    its digest in ``SHA256SUMS`` beside it."""
     with atomic_write(path, "wb") as f:
         torch.save(to_saved(obj), f)
+    digests.record(path)
 
 
 def load(path: str | os.PathLike, expected: str):
@@ -57,12 +62,30 @@ def load(path: str | os.PathLike, expected: str):
     says what it should be, for the error message (e.g. "a policy.pt written by objsearch train")."""
     path = Path(path)
     try:
+        digests.verify(path)
         return from_saved(torch.load(path, map_location="cpu", weights_only=True))
     except FileNotFoundError:
         raise UserError(f"checkpoint {path} does not exist; expected {expected}") from None
+    except IsADirectoryError:
+        raise UserError(f"checkpoint {path} is a folder; expected {expected}") from None
+    except UserError:
+        raise
     except Exception as err:  # torch raises many kinds for a damaged, foreign or code-carrying file
         first = str(err).strip().splitlines()[0] if str(err).strip() else ""
         reason = first if first and "weights_only" not in first else "not a weights-only checkpoint (damaged, or it holds code)"
         if path.stat().st_size == 0:
             reason = "the file is empty"
         raise UserError(f"cannot read checkpoint {path}: {reason}; expected {expected}") from None
+
+
+@contextlib.contextmanager
+def fitting(path: str | os.PathLike, expected: str):
+    """Interpret a loaded file's contents inside this block: a missing field, a wrong type or
+    weights of another shape (``KeyError``, ``TypeError``, ``ValueError``, ``RuntimeError``
+    from ``load_state_dict``) become a ``UserError`` naming the file and what was expected."""
+    try:
+        yield
+    except (KeyError, TypeError, ValueError, AttributeError, RuntimeError) as err:
+        reason = str(err).strip().splitlines()[0] if str(err).strip() else type(err).__name__
+        raise UserError(f"checkpoint {path} does not hold what it should ({type(err).__name__}: {reason[:200]}); "
+                        f"expected {expected}") from None

@@ -17,6 +17,7 @@ from pathlib import Path
 
 import numpy as np
 
+from objsearch import digests, torchfile
 from objsearch.errors import UserError
 from objsearch.sim.goals import GOAL_CAMERA
 from objsearch_agents.house.config import HouseAgentConfig
@@ -75,26 +76,30 @@ class HouseAgent:
         if not isinstance(state, dict) or state.get("kind") != POLICY_KIND:
             raise UserError(f"checkpoint {path} is not a house agent's policy.pt (a grid-world or other file?); "
                             "pass one written by objsearch train --suite house-...")
-        saved = HouseAgentConfig.from_json(state["config"])
-        if saved.name != self.config.name:
-            raise UserError(f"checkpoint {path} was trained as {saved.name}, not {self.config.name}; pick --agent {saved.name}")
-        if saved.suite != self.suite:
-            raise UserError(f"checkpoint {path} was trained on suite {saved.suite}, not {self.suite}; "
-                            f"evaluate it with --suite {saved.suite} or pass a checkpoint trained on {self.suite}")
-        camera = state.get("camera")
-        if camera != GOAL_CAMERA.to_dict():
-            raise UserError(f"checkpoint {path} was trained with camera {camera}; the house suites' camera is {GOAL_CAMERA.to_dict()}")
-        self.policy = HousePolicy(saved)
-        if self.policy.ac is not None:
-            self.policy.ac.load_state_dict(state["ac"])
-        if self.policy.q is not None:
-            self.policy.q.load_state_dict(state["q"])
-        if self.policy.explore is not None:
-            self.policy.explore.load_state_dict(state["explore"])
+        files = [path]
+        with torchfile.fitting(path, "a house agent's policy.pt written by objsearch train"):
+            saved = HouseAgentConfig.from_json(state["config"])
+            if saved.name != self.config.name:
+                raise UserError(f"checkpoint {path} was trained as {saved.name}, not {self.config.name}; pick --agent {saved.name}")
+            if saved.suite != self.suite:
+                raise UserError(f"checkpoint {path} was trained on suite {saved.suite}, not {self.suite}; "
+                                f"evaluate it with --suite {saved.suite} or pass a checkpoint trained on {self.suite}")
+            camera = state.get("camera")
+            if camera != GOAL_CAMERA.to_dict():
+                raise UserError(f"checkpoint {path} was trained with camera {camera}; the house suites' camera is {GOAL_CAMERA.to_dict()}")
+            self.policy = HousePolicy(saved)
+            if self.policy.ac is not None:
+                self.policy.ac.load_state_dict(state["ac"])
+            if self.policy.q is not None:
+                self.policy.q.load_state_dict(state["q"])
+            if self.policy.explore is not None:
+                self.policy.explore.load_state_dict(state["explore"])
         if self.policy.grg is not None:
-            self.policy.grg = GoalsRelationalGraph.load(path.parent / GRG_FILE)
+            files.append(path.parent / GRG_FILE)
+            self.policy.grg = GoalsRelationalGraph.load(files[-1])
             self.policy.refresh_plans()
         self.loaded_from = str(path)
+        self.weights_sha256 = digests.of_files(files)
 
     # -- the protocol (one episode, or N in lockstep: the same code) -------------------------
     def reset(self, task) -> None:

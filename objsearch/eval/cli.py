@@ -10,6 +10,7 @@ from objsearch.errors import UserError
 
 DEFAULT_AGENT = "random"
 DEFAULT_BATCH = 32
+DEFAULT_VIDEO_EPISODES = 2
 # The flags that set suite options: attribute of the parsed arguments -> option of the suite
 # (each suite class names the options it takes; a flag its suite lacks is an error).
 SUITE_FLAGS = {"maps": "maps", "tasks": "tasks", "max_steps": "max_steps", "render": "mode", "cache_dir": "cache_dir",
@@ -21,7 +22,9 @@ def configure(parser: argparse.ArgumentParser) -> argparse.ArgumentParser:
     from objsearch.eval.runner import PAPER_SEEDS
     from objsearch.eval.suites import DEFAULT_SUITE, SUITES
 
-    parser.add_argument("--agent", default=DEFAULT_AGENT, help=f"registered name or package.module:Class (default: {DEFAULT_AGENT})")
+    parser.add_argument("--agent", default=DEFAULT_AGENT,
+                        help=f"registered name, package.module:Class (also found in the current folder) or "
+                             f"path/to/file.py:Class (default: {DEFAULT_AGENT})")
     parser.add_argument("--suite", help=f"suite to evaluate on: {', '.join(SUITES)}, or a suite file (.json) made by "
                                         f"objsearch suite make (default: {DEFAULT_SUITE}; gridworld with --maps/--tasks)")
     parser.add_argument("--split", action="append", dest="splits", metavar="NAME", help="split to run; repeat for several (default: all)")
@@ -31,7 +34,7 @@ def configure(parser: argparse.ArgumentParser) -> argparse.ArgumentParser:
     parser.add_argument("--workers", type=positive_int, default=1, help="worker processes; results are identical for any number")
     parser.add_argument("--batch", type=positive_int,
                         help=f"episodes each worker plays in lockstep (batched agents decide for all in one call); "
-                             f"the same results for any N (default: {DEFAULT_BATCH}; 1 with --video)")
+                             f"the same results for any N (default: {DEFAULT_BATCH})")
     parser.add_argument("--checkpoint", help="checkpoint passed to the agent's load()")
     parser.add_argument(
         "--out", help="write the results JSON here; an interrupted run resumes from OUT.partial.jsonl when rerun"
@@ -54,7 +57,12 @@ def configure(parser: argparse.ArgumentParser) -> argparse.ArgumentParser:
     )
     parser.add_argument("--executor", choices=EXECUTORS, default="local", help="local processes or a Ray cluster")
     parser.add_argument("--address", help="Ray cluster address (default: start a local cluster)")
-    parser.add_argument("--video", metavar="DIR", help="house suites: write each episode's map (PNG) and view (MP4) here")
+    parser.add_argument("--video", metavar="DIR",
+                        help="house suites: write the map (PNG) and view (MP4) of the first --video-episodes episodes "
+                             "of each split (first seed) here")
+    parser.add_argument("--video-episodes", type=positive_int, default=DEFAULT_VIDEO_EPISODES, metavar="N",
+                        help=f"with --video: episodes per split that get pictures; they play one at a time, the "
+                             f"rest batched (default: {DEFAULT_VIDEO_EPISODES}; each costs about 10 ms a step, README)")
     parser.add_argument("--list-agents", action="store_true", help="list the installed agents and exit")
     parser.add_argument("--quiet", action="store_true", help="no progress bar")
     parser.set_defaults(func=run)
@@ -80,10 +88,13 @@ def run(args: argparse.Namespace) -> int:
     from objsearch.eval.results import format_table
     from objsearch.eval.runner import EvalConfig, evaluate
 
-    from objsearch.cluster import check_address
+    from objsearch.cluster import check_address, one_math_thread
     from objsearch.eval.suites import DEFAULT_SUITE
 
     check_address(args.address, args.executor)
+    # Batched agents' forward passes are small: torch's default threads fight over shared cores
+    # (hrl_grg on gridworld, 1500 episodes on 2 busy cores: 132 s with 2 threads, 17 s with 1).
+    one_math_thread()
     if args.suite is None:
         args.suite = "gridworld" if args.maps or args.tasks else DEFAULT_SUITE
     config = EvalConfig(
@@ -97,13 +108,16 @@ def run(args: argparse.Namespace) -> int:
     )
     results = evaluate(
         config, workers=args.workers, progress=not args.quiet, executor=args.executor, address=args.address, out=args.out,
-        video_dir=args.video, batch=args.batch or (1 if args.video else DEFAULT_BATCH),
+        video_dir=args.video, batch=args.batch or DEFAULT_BATCH, video_episodes=args.video_episodes,
     )
     failed = [r for r in results["episodes"] if "error" in r]
     if failed:  # first, so that a table of failures is never mistaken for a result
         first = failed[0]
         print(f"{len(failed)} of {len(results['episodes'])} episode(s) failed with an agent error; the first, "
               f"{first['split']}/seed {first['seed']}/{first['episode_id']}: {first['error']}", file=sys.stderr)
+        if "traceback" in first:
+            print("its traceback (the agent's frames, innermost last):\n" + first["traceback"], file=sys.stderr)
+        sys.stderr.flush()  # before the table on stdout
     print(format_table(results))
     if args.out:
         print(f"results written to {args.out}", file=sys.stderr)

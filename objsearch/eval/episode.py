@@ -4,9 +4,11 @@ and the episode's record (shared by the sequential and the lockstep runs)."""
 from __future__ import annotations
 
 import contextlib
+import os
 import signal
 import threading
 import time
+import traceback
 import zlib
 
 import numpy as np
@@ -22,6 +24,23 @@ def episode_rng(seed: int, split: str, episode_id: int) -> np.random.Generator:
 
 class StepTimeLimit(Exception):
     """An agent call ran past the step time limit."""
+
+
+HARNESS = os.path.dirname(os.path.abspath(__file__)) + os.sep
+TRACEBACK_FRAMES = 8  # the agent's innermost frames kept in a failed episode's record
+
+
+def describe_failure(err: BaseException, step_time_limit: float | None, steps: int) -> tuple[str, str | None]:
+    """An agent's failure as its episode's record keeps it: (``error``, ``traceback``: the
+    last frames of the agent's own code, without the harness's, or None if there are none)."""
+    if isinstance(err, StepTimeLimit):
+        return f"step time limit of {step_time_limit:g} s exceeded at step {steps}", None
+    message = f"{type(err).__name__}: {err}"
+    frames = [f for f in traceback.extract_tb(err.__traceback__)
+              if not f.filename.startswith(HARNESS) and f.filename != contextlib.__file__]
+    if not frames:
+        return message, None
+    return message, "".join(traceback.format_list(frames[-TRACEBACK_FRAMES:])) + message
 
 
 @contextlib.contextmanager
@@ -65,7 +84,7 @@ def run_episode(
     With ``trajectory`` (a list), every (observation, info) of the episode is appended to it.
     """
     obs, task = start_episode(env, suite_name, split, episode, seed, trajectory)
-    steps, success, error = 0, False, None
+    steps, success, error, trace = 0, False, None, None
     try:
         with time_limit(step_time_limit):
             agent.reset(task)
@@ -81,11 +100,9 @@ def run_episode(
             if terminated or truncated:
                 success = bool(info["success"])
                 break
-    except StepTimeLimit:
-        error = f"step time limit of {step_time_limit:g} s exceeded at step {steps}"
-    except Exception as err:  # the agent's failure is the episode's, not the run's
-        error = f"{type(err).__name__}: {err}"
-    return episode_record(split, seed, episode, success, steps, error)
+    except Exception as err:  # the agent's failure (StepTimeLimit included) is the episode's, not the run's
+        error, trace = describe_failure(err, step_time_limit, steps)
+    return episode_record(split, seed, episode, success, steps, error, trace)
 
 
 def start_episode(env, suite_name: str, split: str, episode: Episode, seed: int, trajectory: list | None = None):
@@ -109,8 +126,10 @@ def start_episode(env, suite_name: str, split: str, episode: Episode, seed: int,
     return obs, task
 
 
-def episode_record(split: str, seed: int, episode: Episode, success: bool, steps: int, error: str | None) -> dict:
-    """The record of one played episode (``error`` set if the agent failed it)."""
+def episode_record(split: str, seed: int, episode: Episode, success: bool, steps: int, error: str | None,
+                   trace: str | None = None) -> dict:
+    """The record of one played episode (``error`` set if the agent failed it, and
+    ``traceback`` if that failure was raised in the agent's code)."""
     record = {
         "split": split,
         "seed": seed,
@@ -123,4 +142,6 @@ def episode_record(split: str, seed: int, episode: Episode, success: bool, steps
     }
     if error is not None:
         record["error"] = error
+    if trace is not None:
+        record["traceback"] = trace
     return record

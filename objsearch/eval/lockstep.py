@@ -19,7 +19,7 @@ from dataclasses import dataclass
 from typing import Any, Callable, Iterator
 
 from objsearch.eval.agent import AgentTask, is_batched
-from objsearch.eval.episode import StepTimeLimit, episode_record, start_episode, time_limit
+from objsearch.eval.episode import describe_failure, episode_record, start_episode, time_limit
 
 Unit = tuple[str, int, int]
 
@@ -65,25 +65,21 @@ def play_lockstep(
         obs, task = start_episode(envs[i], suite_name, split, episode, seed)
         slots[i] = Slot(unit, episode, task, obs)
 
-    def finish(i: int, success: bool, error: str | None) -> dict:
+    def finish(i: int, success: bool, error: str | None, trace: str | None = None) -> dict:
         s = slots.pop(i)
-        return episode_record(s.unit[0], s.unit[1], s.episode, success, s.steps, error)
+        return episode_record(s.unit[0], s.unit[1], s.episode, success, s.steps, error, trace)
 
     def call(fn, *args):
-        """Run an agent call under the time limit: (result, None), or (None, "timeout") if
-        it ran past the limit, or (None, message) if it raised (as a sequential run words them)."""
+        """Run an agent call under the time limit: (result, None), or (None, the exception)
+        if it raised or ran past the limit."""
         try:
             with time_limit(step_time_limit):
                 return fn(*args), None
-        except StepTimeLimit:
-            return None, "timeout"
-        except Exception as err:  # the agent's failure is its episodes', not the run's
-            return None, f"{type(err).__name__}: {err}"
+        except Exception as err:  # the agent's failure (StepTimeLimit included) is its episodes', not the run's
+            return None, err
 
-    def failure(i: int, error: str) -> dict:
-        if error == "timeout":
-            error = f"step time limit of {step_time_limit:g} s exceeded at step {slots[i].steps}"
-        return finish(i, False, error)
+    def failure(i: int, error: Exception) -> dict:
+        return finish(i, False, *describe_failure(error, step_time_limit, slots[i].steps))
 
     while True:
         done: list[dict] = []
@@ -105,7 +101,7 @@ def play_lockstep(
         if batched:
             actions, error = call(first.act_batch, {i: s.obs for i, s in slots.items()})
             if error is None and (not isinstance(actions, dict) or set(actions) != set(slots)):
-                error = f"RuntimeError: act_batch must return a dict with an action for each of the slots {sorted(slots)}"
+                error = RuntimeError(f"act_batch must return a dict with an action for each of the slots {sorted(slots)}")
             errors = dict.fromkeys(slots, error) if error else {}
         else:
             actions, errors = {}, {}

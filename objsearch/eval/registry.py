@@ -1,14 +1,23 @@
-"""Finding agents by name: the entry-point group ``objsearch.agents`` or ``module:Class``.
+"""Finding agents by name: the entry-point group ``objsearch.agents``, ``module:Class`` or
+``path/to/file.py:Class``.
 
 Entry points are listed without importing anything; only the agent asked for is loaded.
 A name registered twice (by two installed packages) is an error, never a silent overwrite.
+A ``module:Class`` is also looked for in the folder the evaluation was started from (as
+``python -m`` does), and a relative file path is taken from there; worker processes get
+that folder (``folder``) so that they build the same agent.
 """
 
 from __future__ import annotations
 
 import difflib
+import hashlib
 import importlib
+import importlib.util
+import os
+import sys
 from importlib.metadata import entry_points
+from pathlib import Path
 
 from objsearch.errors import UserError
 
@@ -28,14 +37,50 @@ def registered_agents() -> dict[str, str]:
     return dict(sorted(found.items()))
 
 
-def _import_target(target: str, what: str):
-    module_name, _, attr = target.partition(":")
-    try:
-        module = importlib.import_module(module_name)
-    except ModuleNotFoundError as err:
-        if err.name and module_name.startswith(err.name):
-            raise UserError(f"{what}: no module named {module_name!r}; is its package installed?") from None
-        raise
+def is_file_spec(spec: str) -> bool:
+    """Whether ``spec`` names its agent by a file: ``path/to/file.py:Class``."""
+    module, _, _ = spec.rpartition(":")
+    return module.endswith(".py") or "/" in module or os.sep in module
+
+
+def _import_file(path: Path, what: str):
+    """The Python file ``path`` loaded as a module (once per process; registered in
+    ``sys.modules`` under a name made from its absolute path, so its classes pickle)."""
+    path = path.resolve()
+    if not path.is_file():
+        raise UserError(f"{what}: no file {path}; give the path of the agent's .py file, "
+                        "relative to the current folder or absolute")
+    name = f"objsearch_agent_file_{path.stem}_{hashlib.sha1(str(path).encode()).hexdigest()[:8]}"
+    if name not in sys.modules:
+        spec = importlib.util.spec_from_file_location(name, path)
+        module = importlib.util.module_from_spec(spec)
+        sys.modules[name] = module
+        try:
+            spec.loader.exec_module(module)
+        except BaseException:
+            del sys.modules[name]
+            raise
+    return sys.modules[name]
+
+
+def _import_target(target: str, what: str, folder: str | None = None):
+    """The object ``module:attr`` (or ``file.py:attr``), modules also looked for in
+    ``folder`` (default: the current one)."""
+    folder = os.path.abspath(folder or os.getcwd())
+    module_name, _, attr = target.rpartition(":")
+    if is_file_spec(target):
+        module = _import_file(Path(folder, module_name), what)
+    else:
+        if folder not in sys.path:
+            sys.path.append(folder)  # after the installed packages: an installed agent wins
+        try:
+            module = importlib.import_module(module_name)
+        except ModuleNotFoundError as err:
+            if err.name and module_name.startswith(err.name):
+                raise UserError(f"{what}: no module named {module_name!r}, neither installed nor in {folder}; "
+                                "install its package, run from the folder that holds it, or give its file "
+                                "(path/to/file.py:Class)") from None
+            raise
     try:
         obj = module
         for part in attr.split("."):
@@ -45,10 +90,12 @@ def _import_target(target: str, what: str):
     return obj
 
 
-def resolve_agent(spec: str) -> type:
-    """The agent class for ``spec``: a registered name or ``package.module:Class``."""
+def resolve_agent(spec: str, folder: str | None = None) -> type:
+    """The agent class for ``spec``: a registered name, ``package.module:Class`` or
+    ``path/to/file.py:Class`` (modules and relative paths also from ``folder``, default:
+    the current folder)."""
     if ":" in spec:
-        cls = _import_target(spec, f"agent {spec!r}")
+        cls = _import_target(spec, f"agent {spec!r}", folder)
     else:
         agents = registered_agents()
         if spec not in agents:
@@ -81,13 +128,15 @@ def check_supports(spec: str, cls: type, suite: str) -> None:
                         f"({world}); suites it supports: {', '.join(fits)}")
 
 
-def make_agent(spec: str, checkpoint: str | None = None, suite: str | None = None):
-    """Instantiate the agent ``spec`` for ``suite`` and load ``checkpoint`` into it if given.
+def make_agent(spec: str, checkpoint: str | None = None, suite: str | None = None, folder: str | None = None):
+    """Instantiate the agent ``spec`` for ``suite`` and load ``checkpoint`` into it if given
+    (``folder``: where modules and relative paths of ``spec`` are also looked for; default:
+    the current folder).
 
     An agent class may declare ``worlds()`` (the suites' worlds it runs in: checked first)
     and ``for_suite(suite, checkpoint)`` (builds the agent for that suite, e.g. loading the
     checkpoint shipped for it); otherwise it is built with ``cls()`` and ``load(checkpoint)``."""
-    cls = resolve_agent(spec)
+    cls = resolve_agent(spec, folder)
     if suite is not None:
         check_supports(spec, cls, suite)
         factory = getattr(cls, "for_suite", None)

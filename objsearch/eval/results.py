@@ -13,6 +13,9 @@ Schema (``schema_version`` 1)::
       "episodes": [{"split", "seed", "episode_id", "goal", "success", "steps",
                     "min_steps", "spl", "task"}, ...]
     }
+
+A failed episode's record also has ``error`` (the message) and, if the agent's own code
+raised it, ``traceback`` (its last frames).
 """
 
 from __future__ import annotations

@@ -6,21 +6,22 @@ from those three values, and the agent is reset before each, so the records do n
 on the order units run in, the number of workers or the executor. An agent that raises,
 returns an invalid action or exceeds the per-step time limit fails that episode (the record
 keeps the error) and the run goes on. With a partial-results file, finished units are
-appended as they complete, and a rerun with the same configuration skips them.
+appended as they complete, and a rerun with the same configuration skips them. Local
+worker processes die with the process that started them (``objsearch.cluster.local_pool``).
 """
 
 from __future__ import annotations
 
-import concurrent.futures as cf
 import json
-import multiprocessing
+import os
+import sys
 from dataclasses import asdict, dataclass, field
 from pathlib import Path
 from typing import Callable, Iterable
 
 from tqdm import tqdm
 
-from objsearch.cluster import EXECUTORS, one_math_thread
+from objsearch.cluster import EXECUTORS, local_pool
 from objsearch.errors import UserError
 from objsearch.eval.episode import episode_rng, run_episode  # noqa: F401  (episode_rng: part of this module's API)
 from objsearch.eval.lockstep import play_lockstep
@@ -44,6 +45,8 @@ class EvalConfig:
         suite_config: arguments of the suite (e.g. ``maps``, ``tasks``, ``max_steps``).
         step_time_limit: seconds an agent may take for one ``act`` (or ``reset``); past it
             the episode fails. None: no limit.
+        weights_sha256: the digest of the files the agent loaded (its ``weights_sha256``,
+            ``objsearch.digests.of_files``), set by ``evaluate``; None for an agent without.
     """
 
     agent: str
@@ -53,6 +56,7 @@ class EvalConfig:
     checkpoint: str | None = None
     suite_config: dict = field(default_factory=dict)
     step_time_limit: float | None = 10.0
+    weights_sha256: str | None = None
 
     def to_json(self) -> dict:
         out = asdict(self)
@@ -63,15 +67,20 @@ class EvalConfig:
 class Worker:
     """An agent, a suite and its env: built once per process (or Ray actor), then fed units.
 
-    With ``video_dir``, each episode's pictures are written there by the suite's
-    ``write_video(directory, record, episode, trajectory)``. With ``batch`` > 1, units are
-    played ``batch`` at a time in lockstep (``objsearch.eval.lockstep``), one env per slot."""
+    ``folder``: the folder the evaluation started in, where a ``module:Class`` or relative
+    ``file.py:Class`` agent is also looked for (default: the current folder). With
+    ``video_dir``, the pictures of each unit in ``video_units`` (None: every unit) are
+    written there by the suite's ``write_video(directory, record, episode, trajectory)``;
+    those units are played one by one, first. With ``batch`` > 1, the others are played ``batch`` at a time in
+    lockstep (``objsearch.eval.lockstep``), one env per slot."""
 
-    def __init__(self, config: EvalConfig, video_dir: str | None = None, batch: int = 1):
-        self.config, self.video_dir, self.batch = config, video_dir, int(batch)
+    def __init__(self, config: EvalConfig, video_dir: str | None = None, batch: int = 1, folder: str | None = None,
+                 video_units: Iterable[Unit] | None = None):
+        self.config, self.video_dir, self.batch, self.folder = config, video_dir, int(batch), folder
+        self.video_units = None if video_units is None else frozenset(map(tuple, video_units))
         self.suite = make_suite(config.suite, **config.suite_config)
         self.env = self.suite.make_env()
-        self.agent = make_agent(config.agent, config.checkpoint, config.suite)
+        self.agent = make_agent(config.agent, config.checkpoint, config.suite, folder)
         self.episodes: dict[str, list[Episode]] = {}
         self._envs = [self.env]
 
@@ -82,22 +91,31 @@ class Worker:
 
     def run(self, split: str, seed: int, episode_id: int) -> dict:
         episode = self.episode(split, episode_id)
-        trajectory = [] if self.video_dir else None
+        video = self.wants_video((split, seed, episode_id))
+        trajectory = [] if video else None
         record = run_episode(self.agent, self.env, self.suite.name, split, episode, seed, self.config.step_time_limit, trajectory)
-        if self.video_dir:
+        if video:
             self.suite.write_video(self.video_dir, record, episode, trajectory)
         return record
 
+    def wants_video(self, unit: Unit) -> bool:
+        return bool(self.video_dir) and (self.video_units is None or unit in self.video_units)
+
     def play(self, units: list[Unit]):
-        """Records of ``units`` as they finish: in lockstep if ``batch`` > 1, else one by one."""
+        """Records of ``units`` as they finish: the video units one by one, then the others
+        in lockstep if ``batch`` > 1, else one by one."""
+        yield from (self.run(*unit) for unit in units if self.wants_video(unit))
+        units = [unit for unit in units if not self.wants_video(unit)]
         if self.batch <= 1:
             yield from (self.run(*unit) for unit in units)
+            return
+        if not units:
             return
         while len(self._envs) < self.batch:
             self._envs.append(self.suite.make_env())
         built = iter([self.agent])
         c = self.config
-        make = lambda: next(built, None) or make_agent(c.agent, c.checkpoint, c.suite)
+        make = lambda: next(built, None) or make_agent(c.agent, c.checkpoint, c.suite, self.folder)
         yield from play_lockstep(units, self._envs, make, self.episode, self.suite.name, c.step_time_limit)
 
     def run_chunk(self, units: list[Unit]) -> list[dict]:
@@ -107,10 +125,9 @@ class Worker:
 _worker: Worker | None = None
 
 
-def _init_worker(config: EvalConfig, video_dir: str | None, batch: int) -> None:
+def _init_worker(config: EvalConfig, video_dir: str | None, batch: int, folder: str, video_units: frozenset | None) -> None:
     global _worker
-    one_math_thread()
-    _worker = Worker(config, video_dir, batch)
+    _worker = Worker(config, video_dir, batch, folder, video_units)
 
 
 def _run_chunk(units: list[Unit]) -> list[dict]:
@@ -125,21 +142,19 @@ def _chunks(units: list[Unit], workers: int, batch: int = 1) -> list[list[Unit]]
 
 
 def _run_local(config: EvalConfig, units: list[Unit], workers: int, video_dir, done: Callable[[list[dict]], None],
-               batch: int = 1) -> None:
+               batch: int = 1, folder: str | None = None, video_units: frozenset | None = None) -> None:
     if workers <= 1:
-        for record in Worker(config, video_dir, batch).play(units):
+        for record in Worker(config, video_dir, batch, folder, video_units).play(units):
             done([record])
         return
-    context = multiprocessing.get_context("spawn")  # no fork: torch and EGL dislike it
-    with cf.ProcessPoolExecutor(workers, mp_context=context, initializer=_init_worker,
-                                initargs=(config, video_dir, batch)) as pool:
+    with local_pool(workers, _init_worker, (config, video_dir, batch, folder, video_units)) as pool:
         for part in pool.map(_run_chunk, _chunks(units, workers, batch)):
             done(part)
 
 
 def _run_ray(
     config: EvalConfig, units: list[Unit], workers: int, address: str | None, video_dir, done: Callable[[list[dict]], None],
-    batch: int = 1,
+    batch: int = 1, folder: str | None = None, video_units: frozenset | None = None,
 ) -> None:
     from objsearch.cluster import ray_session
 
@@ -148,7 +163,7 @@ def _run_ray(
 
         if address:
             workers = max(workers, int(ray.cluster_resources().get("CPU", 1)))
-        actors = [ray.remote(num_cpus=1)(Worker).remote(config, video_dir, batch) for _ in range(workers)]
+        actors = [ray.remote(num_cpus=1)(Worker).remote(config, video_dir, batch, folder, video_units) for _ in range(workers)]
         chunks = _chunks(units, workers, batch)
         for part in ActorPool(actors).map_unordered(lambda actor, chunk: actor.run_chunk.remote(chunk), chunks):
             done(part)
@@ -158,7 +173,9 @@ class PartialResults:
     """Finished records of an evaluation, appended to ``<out>.partial.jsonl`` as they come.
 
     The first line is the configuration; a rerun with the same configuration resumes, one
-    with another is refused. A line cut short by an interruption is ignored.
+    with another is refused, naming the settings that differ. A last line cut short by an
+    interruption is dropped; any other line that is not an episode record is dropped with a
+    warning (its episode runs again), so that the run stays resumable.
     """
 
     def __init__(self, path: str | Path, config: EvalConfig):
@@ -171,15 +188,27 @@ class PartialResults:
                 first = json.loads(lines[0]) if lines else None
             except json.JSONDecodeError:
                 first = None
-            if first != header:
+            stored = first.get("partial_results_of") if isinstance(first, dict) else None
+            if not isinstance(stored, dict):
+                raise UserError(f"{self.path} is not a partial-results file (its first line is not an evaluation's "
+                                "settings); delete it or choose another --out")
+            if stored != header["partial_results_of"]:
                 raise UserError(
-                    f"{self.path} holds partial results of another evaluation; delete it or choose another --out"
+                    f"{self.path} holds partial results of another evaluation ({_differences(stored, header['partial_results_of'])}); "
+                    "rerun with those settings to resume it, or delete it or choose another --out to start afresh"
                 )
-            for line in lines[1:]:
+            for number, line in enumerate(lines[1:], start=2):
                 try:
-                    self.records.append(json.loads(line))
+                    record = json.loads(line)
                 except json.JSONDecodeError:
-                    break  # the interrupted write
+                    record = None
+                    if number == len(lines):
+                        break  # the write an interruption cut short
+                if not (isinstance(record, dict) and RECORD_KEYS <= record.keys()):
+                    print(f"warning: {self.path} line {number} is not an episode record ({line[:60]!r}); "
+                          "dropped, its episode runs again", file=sys.stderr)
+                    continue
+                self.records.append(record)
             self.path.write_text("".join(json.dumps(x) + "\n" for x in [header, *self.records]))
         else:
             self.path.parent.mkdir(parents=True, exist_ok=True)
@@ -198,6 +227,24 @@ class PartialResults:
         self._file.close()
 
 
+RECORD_KEYS = frozenset(("split", "seed", "episode_id", "success", "steps", "min_steps"))
+
+
+def _differences(stored: dict, now: dict, prefix: str = "") -> str:
+    """The settings that differ between two configurations, e.g. ``agent: 'random' there,
+    'oracle' now``."""
+    parts = []
+    for key in sorted(set(stored) | set(now), key=str):
+        there, here = stored.get(key), now.get(key)
+        if there == here:
+            continue
+        if isinstance(there, dict) and isinstance(here, dict):
+            parts.append(_differences(there, here, f"{prefix}{key}."))
+        else:
+            parts.append(f"{prefix}{key}: {there!r} there, {here!r} now")
+    return "; ".join(parts)
+
+
 def run_units(
     config: EvalConfig,
     units: list[Unit],
@@ -208,11 +255,15 @@ def run_units(
     progress: bool = True,
     video_dir: str | None = None,
     batch: int = 1,
+    folder: str | None = None,
+    video_units: Iterable[Unit] | None = None,
 ) -> list[dict]:
     """Run (split, seed, episode_id) units and return their records in the units' order.
 
     Units already in ``partial`` are not run again; new records are appended to it. With
-    ``batch`` > 1 each worker plays that many episodes in lockstep."""
+    ``batch`` > 1 each worker plays that many episodes in lockstep. ``folder``: where the
+    agent's module or file is also looked for (default: the current folder). With
+    ``video_dir``, the units of ``video_units`` (None: every unit) get pictures there."""
     if executor not in EXECUTORS:
         raise UserError(f"unknown executor {executor!r}; choose one of {', '.join(EXECUTORS)}")
     finished = {(r["split"], r["seed"], r["episode_id"]): r for r in (partial.records if partial else [])}
@@ -226,11 +277,13 @@ def run_units(
             partial.add(records)
         bar.update(len(records))
 
+    folder = os.path.abspath(folder or os.getcwd())
+    video_units = None if video_units is None else frozenset(video_units)
     try:
         if todo and executor == "ray":
-            _run_ray(config, todo, workers, address, video_dir, done, batch)
+            _run_ray(config, todo, workers, address, video_dir, done, batch, folder, video_units)
         elif todo:
-            _run_local(config, todo, workers, video_dir, done, batch)
+            _run_local(config, todo, workers, video_dir, done, batch, folder, video_units)
     finally:
         bar.close()
     return [finished[u] for u in units]
@@ -239,6 +292,13 @@ def run_units(
 def plan_units(suite, splits: list[str], seeds: tuple[int, ...]) -> list[Unit]:
     """Every (split, seed, episode_id), in report order."""
     return [(split, seed, ep.episode_id) for split in splits for seed in seeds for ep in suite.episodes(split)]
+
+
+def video_units_of(suite, splits: list[str], seeds: tuple[int, ...], episodes: int) -> list[Unit]:
+    """The units that get a video: the first ``episodes`` episodes (by id) of each split,
+    with the first seed."""
+    return [(split, seeds[0], ep.episode_id) for split in splits
+            for ep in sorted(suite.episodes(split), key=lambda ep: ep.episode_id)[:episodes]]
 
 
 def evaluate(
@@ -250,24 +310,32 @@ def evaluate(
     out: str | Path | None = None,
     video_dir: str | None = None,
     batch: int = 1,
+    video_episodes: int = 2,
 ) -> dict:
     """Evaluate ``config.agent`` on ``config.suite`` and return the results dict.
 
     With ``out``, the results JSON is written there; until it is, finished episodes are
     kept in ``<out>.partial.jsonl`` and a rerun of the same configuration resumes from it.
-    With ``video_dir``, every episode's pictures are written there (suites that have them).
-    With ``batch`` > 1, each worker plays that many episodes in lockstep (same records).
+    With ``video_dir``, the pictures of the first ``video_episodes`` episodes of each split
+    (first seed) are written there (suites that have them); those are played one at a
+    time, the rest as usual. With ``batch`` > 1, each worker plays that many episodes in
+    lockstep (same records). Outputs that cannot be written are refused before the first
+    episode.
     """
     from objsearch.eval.results import build_results
-    from objsearch.fileio import write_json
+    from objsearch.fileio import check_writable, write_json
 
+    if out:
+        check_writable(out, "--out")
+        check_writable(f"{out}.partial.jsonl", "--out")
+    if video_dir:
+        check_writable(video_dir, "--video", folder=True)
     suite = make_suite(config.suite, **config.suite_config)
     splits = check_splits(suite, list(config.splits))
     if video_dir and not hasattr(suite, "write_video"):
         raise UserError(f"--video is not available for suite {config.suite!r} (house suites have it)")
-    if video_dir and batch > 1:
-        raise UserError("--video records episodes one at a time; drop --batch (or use --batch 1)")
-    make_agent(config.agent, config.checkpoint, config.suite)  # fail fast on a bad agent, before any worker starts
+    folder = os.getcwd()
+    agent = make_agent(config.agent, config.checkpoint, config.suite, folder)  # fail fast, before any worker starts
     config = EvalConfig(
         agent=config.agent,
         suite=config.suite,
@@ -276,11 +344,15 @@ def evaluate(
         checkpoint=config.checkpoint,
         suite_config=suite.config(),
         step_time_limit=config.step_time_limit,
+        weights_sha256=getattr(agent, "weights_sha256", None),
     )
+    del agent
     partial = PartialResults(f"{out}.partial.jsonl", config) if out else None
     try:
         units = plan_units(suite, splits, config.seeds)
-        records = run_units(config, units, workers, executor, address, partial, progress, video_dir, batch)
+        video_units = video_units_of(suite, splits, config.seeds, video_episodes) if video_dir else None
+        records = run_units(config, units, workers, executor, address, partial, progress, video_dir, batch, folder,
+                            video_units)
     finally:
         if partial:
             partial.close()

@@ -30,10 +30,11 @@ def add_parser(subparsers) -> None:
 def run(args: argparse.Namespace) -> int:
     from tqdm import tqdm
 
-    from objsearch.fileio import write_json
+    from objsearch.fileio import check_writable, write_json
     from objsearch.house.categories import category_table
     from objsearch.house.generate import HouseGenerationError, generate_house, write_house
 
+    check_writable(args.out, "--out", folder=True)
     seeds = range(args.seed, args.seed + args.num)
     write_json(f"{args.out}/categories.json", category_table())
     failed = []

@@ -1,53 +1,86 @@
-"""``objsearch leaderboard check|add|render``: validate, store and publish results."""
+"""``objsearch leaderboard check|add|verify|render``: validate, store, replay and publish results."""
 
 from __future__ import annotations
 
 import argparse
 import re
 import sys
+import time
 from pathlib import Path
 
 from objsearch.errors import UserError
 
 DEFAULT_DIR = "leaderboard"
-NAME = re.compile(r"^[A-Za-z0-9][A-Za-z0-9_.-]*$")
+NAME = re.compile(r"[A-Za-z0-9][A-Za-z0-9_.-]*")  # matched with fullmatch: "abc\n" is no name
 
 
 def add_parser(subparsers) -> None:
-    parser = subparsers.add_parser("leaderboard", help="validate, add and render leaderboard submissions", description=__doc__)
-    parser.add_argument("--dir", default=DEFAULT_DIR, help=f"the leaderboard folder (default: ./{DEFAULT_DIR})")
+    from objsearch.leaderboard.validate import VERIFY_EPISODES
+
+    parser = subparsers.add_parser("leaderboard", help="validate, add, verify and render leaderboard submissions", description=__doc__)
+    parser.add_argument("--dir", default=DEFAULT_DIR, help=f"the leaderboard folder, holding submissions/ (default: ./{DEFAULT_DIR})")
     commands = parser.add_subparsers(dest="leaderboard_command", metavar="ACTION", required=True)
     check = commands.add_parser("check", help="validate submissions (default: every stored one)")
     check.add_argument("files", nargs="*", metavar="FILE")
+    check.add_argument("--partial", action="store_true", help="check FILEs as `add --partial` would: some splits or seeds")
     check.set_defaults(func=run_check)
     add = commands.add_parser("add", help="validate a results JSON, store it and regenerate the pages")
     add.add_argument("file", metavar="FILE")
-    add.add_argument("--name", help="entry name (default: the agent's name)")
+    add.add_argument("--name", help="entry name (default: the agent's name; module:Class gives module.Class)")
     add.add_argument("--replace", action="store_true", help="replace a stored entry of the same name")
+    add.add_argument("--partial", action="store_true",
+                     help="store a result that covers only some splits or seeds (listed apart on the pages, never ranked)")
+    add.add_argument("--create", action="store_true", help="start a new leaderboard if --dir has no submissions/ folder")
     add.set_defaults(func=run_add)
+    verify = commands.add_parser("verify", help="replay a sample of stored entries' episodes; exit 2 unless identical")
+    verify.add_argument("entries", nargs="*", metavar="ENTRY", help="a stored entry: its path or SUITE/NAME")
+    verify.add_argument("--all", action="store_true", help="verify every stored entry")
+    verify.add_argument("--episodes", type=int, default=VERIFY_EPISODES, metavar="K",
+                        help=f"episodes replayed per entry, chosen by a hash of its content (default: {VERIFY_EPISODES})")
+    verify.set_defaults(func=run_verify)
     render = commands.add_parser("render", help="regenerate README.md and index.html from the stored submissions")
     render.set_defaults(func=run_render)
 
 
-def _validated(path: str | Path) -> dict:
+def _validated(path: str | Path, partial: bool = False) -> dict:
     from objsearch.leaderboard.validate import check_submission, load_submission
 
     results = load_submission(path)
+    if partial:
+        results["partial"] = True
     problems = check_submission(results)
     if problems:
         raise UserError(f"submission {path} is rejected: " + "; ".join(problems))
     return results
 
 
-def run_check(args: argparse.Namespace) -> int:
+def _stored(root: str | Path) -> list[Path]:
+    """The stored entries of the leaderboard ``root``; an error if it is not a leaderboard folder."""
     from objsearch.leaderboard.render import SUBMISSIONS
 
-    files = args.files or sorted(str(p) for p in Path(args.dir, SUBMISSIONS).glob("*/*.json"))
+    store = Path(root, SUBMISSIONS)
+    if not store.is_dir():
+        raise UserError(f"{Path(root)} is not a leaderboard folder (it has no {SUBMISSIONS}/ folder); run from the "
+                        "repository root or pass --dir PATH/leaderboard (add --create starts a new leaderboard there)")
+    return sorted(store.glob("*/*.json"))
+
+
+def default_name(agent: str) -> str:
+    """An entry name from an agent spec: ``mypkg.mymodule:MyAgent`` gives ``mypkg.mymodule.MyAgent``;
+    characters a name cannot hold become ``_``."""
+    return re.sub(r"[^A-Za-z0-9_.-]", "_", agent.replace(":", ".")).lstrip("_.-")
+
+
+def run_check(args: argparse.Namespace) -> int:
+    if args.partial and not args.files:
+        raise UserError("--partial checks FILEs about to be added with --partial; stored entries carry their own mark")
+    files = args.files or _stored(args.dir)
     if not files:
-        raise UserError(f"no submissions under {Path(args.dir, SUBMISSIONS)}; pass FILE or --dir")
+        raise UserError(f"no submissions under {Path(args.dir)}; pass FILE or --dir")
     for path in files:
-        results = _validated(path)
-        print(f"ok: {path} ({results['agent']} on {results['suite']}, {len(results['episodes'])} episodes)")
+        results = _validated(path, args.partial)
+        kind = "partial, " if results.get("partial") else ""
+        print(f"ok: {path} ({kind}{results['agent']} on {results['suite']}, {len(results['episodes'])} episodes)")
     return 0
 
 
@@ -55,23 +88,72 @@ def run_add(args: argparse.Namespace) -> int:
     from objsearch.fileio import write_json
     from objsearch.leaderboard.render import SUBMISSIONS, render
 
-    results = _validated(args.file)
-    name = args.name or results["agent"]
-    if not NAME.match(name):
-        raise UserError(f"entry name {name!r} must be letters, digits, '_', '-' or '.'; pass --name")
+    results = _validated(args.file, args.partial)
+    name = args.name if args.name is not None else default_name(results["agent"])
+    if not NAME.fullmatch(name):
+        raise UserError(f"entry name {name!r} must start with a letter or digit and hold only letters, digits, "
+                        "'_', '-' or '.'; pass another --name")
+    if not Path(args.dir, SUBMISSIONS).is_dir() and args.create:
+        Path(args.dir, SUBMISSIONS).mkdir(parents=True)
     target = Path(args.dir, SUBMISSIONS, results["suite"], f"{name}.json")
+    stored = _stored(args.dir)
     if target.exists() and not args.replace:
         raise UserError(f"{target} exists; pass --replace to replace it or --name to add another entry")
+    for path in stored:  # the pages are rendered from every stored entry: refuse before writing anything
+        if path != target:
+            _validated(path)
     write_json(target, results, indent=None)
     for path in render(args.dir):
         print(f"wrote {path}", file=sys.stderr)
-    print(f"added {target}")
+    print(f"added {target}" + (" (partial: listed apart, not ranked)" if results.get("partial") else ""))
+    return 0
+
+
+def _entry_path(root: str | Path, entry: str) -> Path:
+    """A stored entry given as its path or as ``SUITE/NAME``."""
+    from objsearch.leaderboard.render import SUBMISSIONS
+
+    path = Path(entry)
+    if path.is_file():
+        return path
+    named = Path(root, SUBMISSIONS, f"{entry}.json")
+    if entry.count("/") == 1 and named.is_file():
+        return named
+    raise UserError(f"no stored entry {entry!r}: neither a file nor SUITE/NAME of {named.parent.parent} "
+                    "(objsearch leaderboard check lists the stored entries)")
+
+
+def run_verify(args: argparse.Namespace) -> int:
+    from objsearch.cluster import one_math_thread
+    from objsearch.leaderboard.validate import load_submission, verify_submission
+
+    one_math_thread()  # a few episodes at a time: more torch threads only fight whatever else runs
+
+    if args.episodes < 1:
+        raise UserError(f"--episodes {args.episodes}: replay at least 1 episode per entry")
+    if bool(args.all) == bool(args.entries):
+        raise UserError("pass ENTRY (a stored entry's path or SUITE/NAME) or --all, not both or neither")
+    paths = _stored(args.dir) if args.all else [_entry_path(args.dir, e) for e in args.entries]
+    if not paths:
+        raise UserError(f"no stored entries under {Path(args.dir)} to verify")
+    start = time.monotonic()
+    for path in paths:
+        t = time.monotonic()
+        results = load_submission(path)
+        problems = verify_submission(results, args.episodes)
+        if problems:
+            raise UserError(f"submission {path} fails verification: " + "; ".join(problems))
+        replayed = min(args.episodes, len(results["episodes"]))
+        print(f"verified: {path} ({replayed} replayed episodes identical, {time.monotonic() - t:.1f} s)")
+    if len(paths) > 1:
+        print(f"verified {len(paths)} entries in {time.monotonic() - start:.0f} s")
     return 0
 
 
 def run_render(args: argparse.Namespace) -> int:
     from objsearch.leaderboard.render import render
 
+    _stored(args.dir)
     for path in render(args.dir):
         print(f"wrote {path}")
     return 0

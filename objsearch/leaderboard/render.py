@@ -1,6 +1,10 @@
 """Generating ``leaderboard/README.md``, ``leaderboard/index.html`` and
 ``leaderboard/paper_tables.md`` (the paper's Tables 1-3 beside ours) from the stored
-submissions alone (``leaderboard/submissions/<suite>/<name>.json``)."""
+submissions alone (``leaderboard/submissions/<suite>/<name>.json``).
+
+Partial submissions (``"partial": true``: fewer splits or seeds than the suite's standard)
+are never ranked: README.md lists them apart, after the ranked tables; index.html and
+paper_tables.md show the full submissions only."""
 
 from __future__ import annotations
 
@@ -28,10 +32,13 @@ def observation_label(results: dict) -> str:
     return f"predicted {key}" if key else "gt"
 
 
-def leaderboard_rows(submissions: list[tuple[str, dict]]) -> dict[str, dict[str, list[dict]]]:
-    """{suite: {split: [row, ...]}} with rows ranked by SPL, then SR (best first)."""
+def leaderboard_rows(submissions: list[tuple[str, dict]], partial: bool = False) -> dict[str, dict[str, list[dict]]]:
+    """{suite: {split: [row, ...]}} of the full submissions, rows ranked by SPL, then SR (best
+    first); with ``partial``, of the partial submissions instead, in name order (unranked)."""
     tables: dict[str, dict[str, list[dict]]] = {}
     for name, results in submissions:
+        if bool(results.get("partial")) != partial:
+            continue
         for split, s in results["splits"].items():
             tables.setdefault(results["suite"], {}).setdefault(split, []).append(
                 {
@@ -53,7 +60,7 @@ def leaderboard_rows(submissions: list[tuple[str, dict]]) -> dict[str, dict[str,
             )
     for splits in tables.values():
         for rows in splits.values():
-            rows.sort(key=lambda r: (-r["spl"], -r["sr"], r["name"]))
+            rows.sort(key=lambda r: r["name"] if partial else (-r["spl"], -r["sr"], r["name"]))
     return tables
 
 
@@ -61,7 +68,20 @@ def _num(value) -> str:
     return "–" if value is None else f"{value:.2f}"
 
 
-def render_markdown(tables: dict) -> str:
+def _markdown_row(rank, r: dict) -> str:
+    return (f"| {rank} | {r['name']} | {r['observation']} | {_num(r['sr'])} | {_num(r['sr_ci'][0])}–{_num(r['sr_ci'][1])} | "
+            f"{_num(r['spl'])} | {_num(r['spl_ci'][0])}–{_num(r['spl_ci'][1])} | "
+            f"{_num(r['as'])} / {_num(r['ms'])} | {r['episodes']} | {r['seeds']} | {r['version']} | {r['commit']} |")
+
+
+_MARKDOWN_HEADER = [
+    "| # | entry | observation | SR | SR 95% CI | SPL | SPL 95% CI | AS / MS | episodes | seeds | objsearch | commit |",
+    "|---|---|---|---|---|---|---|---|---|---|---|---|",
+]
+
+
+def render_markdown(tables: dict, partial: dict | None = None) -> str:
+    """The ranked ``tables``, then the ``partial`` ones (``leaderboard_rows(..., partial=True)``) apart."""
     lines = [
         "# objsearch leaderboard",
         "",
@@ -76,24 +96,21 @@ def render_markdown(tables: dict) -> str:
     ]
     for suite, splits in tables.items():
         for split, rows in splits.items():
-            lines += [
-                "",
-                f"## {suite} — {split}",
-                "",
-                "| # | entry | observation | SR | SR 95% CI | SPL | SPL 95% CI | AS / MS | episodes | seeds | objsearch | commit |",
-                "|---|---|---|---|---|---|---|---|---|---|---|---|",
-            ]
-            for rank, r in enumerate(rows, start=1):
-                lines.append(
-                    f"| {rank} | {r['name']} | {r['observation']} | {_num(r['sr'])} | {_num(r['sr_ci'][0])}–{_num(r['sr_ci'][1])} | "
-                    f"{_num(r['spl'])} | {_num(r['spl_ci'][0])}–{_num(r['spl_ci'][1])} | "
-                    f"{_num(r['as'])} / {_num(r['ms'])} | {r['episodes']} | {r['seeds']} | {r['version']} | {r['commit']} |"
-                )
+            lines += ["", f"## {suite} — {split}", "", *_MARKDOWN_HEADER]
+            lines += [_markdown_row(rank, r) for rank, r in enumerate(rows, start=1)]
             for p in paper_rows(suite, split):
                 lines.append(
                     f"| | *paper: {p['name']}* | *{p['observation']}* | *{_num(p['sr'])}* | | *{_num(p['spl'])}* | | "
                     f"*{_num(p['as'])} / {_num(p['ms'])}* | | | | |"
                 )
+    if partial:
+        lines += ["", "## Partial submissions (not ranked)", "",
+                  "Entries added with `--partial`: they cover fewer splits or seeds than the suite's standard, so",
+                  "they are not comparable with the ranked rows above."]
+        for suite, splits in partial.items():
+            for split, rows in splits.items():
+                lines += ["", f"### {suite} — {split} (partial)", "", *_MARKDOWN_HEADER]
+                lines += [_markdown_row("–", r) for r in rows]
     return "\n".join(lines) + "\n"
 
 
@@ -319,9 +336,10 @@ def render(root: str | Path) -> list[Path]:
     root = Path(root)
     submissions = stored_submissions(root)
     tables = leaderboard_rows(submissions)
+    full = [(name, results) for name, results in submissions if not results.get("partial")]
     written = []
-    pages = (("README.md", render_markdown(tables)), ("index.html", render_html(tables)),
-             ("paper_tables.md", render_paper_tables(submissions)))
+    pages = (("README.md", render_markdown(tables, leaderboard_rows(submissions, partial=True))),
+             ("index.html", render_html(tables)), ("paper_tables.md", render_paper_tables(full)))
     for name, text in pages:
         with atomic_write(root / name) as f:
             f.write(text)

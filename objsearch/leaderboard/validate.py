@@ -1,13 +1,21 @@
 """Checking a submission (a results JSON from ``objsearch-eval``) before it is trusted.
 
-A submission passes when its schema version is known, its suite and episode-set version
-are the benchmark's own, every episode of its splits and seeds is present exactly once,
-none ended in an agent error, each matches the suite's episode, and its summary equals the
-one recomputed from its records.
+A submission passes when its fields have the types of a results JSON, its schema version
+is known, its suite and episode-set version are the benchmark's own, it covers every split
+of the suite with the standard seeds (``STANDARD_SEEDS``) unless it is marked partial
+(``"partial": true``, set by ``objsearch leaderboard add --partial``), every episode of its
+splits and seeds is present exactly once, none ended in an agent error, each matches the
+suite's episode, and its summary equals the one recomputed from its records.
+
+``verify_submission`` goes further: it replays a sample of the episodes with the agent,
+checkpoint and suite config the submission names and requires identical records
+(evaluation is deterministic), which a renamed or fabricated submission cannot pass.
 """
 
 from __future__ import annotations
 
+import functools
+import hashlib
 import json
 import math
 from collections import Counter
@@ -16,11 +24,16 @@ from pathlib import Path
 from objsearch.errors import UserError
 from objsearch.eval.metrics import episode_spl, summarize
 from objsearch.eval.results import SCHEMA_VERSION
-from objsearch.eval.runner import plan_units
+from objsearch.eval.registry import make_agent
+from objsearch.eval.runner import PAPER_SEEDS, EvalConfig, run_units
 from objsearch.eval.suites import SUITES, make_suite
 
 REQUIRED = ("schema_version", "agent", "suite", "episode_set_version", "objsearch_version", "seeds", "config", "splits", "episodes")
 TOLERANCE = 1e-4  # summaries are rounded to 4 decimals
+STANDARD_SEEDS = PAPER_SEEDS  # a full (ranked) submission runs every split with these seeds
+# the fields of a record that a replay must reproduce exactly (spl follows from them; no timing fields exist)
+REPLAYED = ("goal", "min_steps", "task", "success", "steps", "error")
+VERIFY_EPISODES = 8
 
 
 def load_submission(path: str | Path) -> dict:
@@ -29,7 +42,7 @@ def load_submission(path: str | Path) -> dict:
         data = json.loads(path.read_text())
     except OSError as err:
         raise UserError(f"cannot read submission {path}: {err.strerror}") from None
-    except json.JSONDecodeError as err:
+    except (json.JSONDecodeError, UnicodeDecodeError) as err:
         raise UserError(f"submission {path} is not JSON: {err}") from None
     if not isinstance(data, dict):
         raise UserError(f"submission {path} is not a results object from objsearch-eval")
@@ -46,20 +59,102 @@ def _differs(a, b) -> bool:
     return a != b
 
 
+def _is_int(x) -> bool:
+    return isinstance(x, int) and not isinstance(x, bool)
+
+
+def _is_seeds(x) -> bool:
+    return isinstance(x, list) and all(_is_int(v) and v >= 0 for v in x)
+
+
+def _is_strs(x) -> bool:
+    return isinstance(x, list) and all(isinstance(v, str) for v in x)
+
+
+def _is_number(x) -> bool:
+    return isinstance(x, (int, float)) and not isinstance(x, bool)
+
+
+_STR = (lambda x: isinstance(x, str), "a string")
+_OPT_STR = (lambda x: x is None or isinstance(x, str), "a string or null")
+_INT = (_is_int, "an integer")
+_SEEDS = (_is_seeds, "a list of non-negative integers")
+_STRS = (_is_strs, "a list of strings")
+_BOOL = (lambda x: isinstance(x, bool), "true or false")
+_DICT = (lambda x: isinstance(x, dict), "an object")
+_OPT_NUMBER = (lambda x: x is None or _is_number(x), "a number or null")
+# field: (test, what it must be, required)
+TOP_FIELDS = {"schema_version": (*_INT, True), "agent": (*_STR, True), "suite": (*_STR, True),
+              "episode_set_version": (*_STR, True), "objsearch_version": (*_STR, True), "git_commit": (*_OPT_STR, False),
+              "seeds": (*_SEEDS, True), "config": (*_DICT, True), "splits": (*_DICT, True),
+              "episodes": ((lambda x: isinstance(x, list)), "a list", True), "partial": (*_BOOL, False)}
+CONFIG_FIELDS = {"agent": (*_STR, True), "suite": (*_STR, True), "splits": (*_STRS, True), "seeds": (*_SEEDS, True),
+                 "checkpoint": (*_OPT_STR, False), "suite_config": (*_DICT, False), "step_time_limit": (*_OPT_NUMBER, False),
+                 "weights_sha256": (*_OPT_STR, False)}
+RECORD_FIELDS = {"split": (*_STR, True), "seed": (*_INT, True), "episode_id": (*_INT, True), "goal": (*_STR, True),
+                 "success": (*_BOOL, True), "steps": (*_INT, True), "min_steps": (*_INT, True), "spl": (*_OPT_NUMBER, False),
+                 "task": (*_DICT, True), "error": (*_STR, False),
+                 "traceback": (*_STR, False)}
+
+
+def _short(value, limit: int = 60) -> str:
+    text = repr(value)
+    return text if len(text) <= limit else text[: limit - 3] + "..."
+
+
+def _field_problems(obj: dict, fields: dict, where: str) -> list[str]:
+    problems = []
+    for key, (test, what, required) in fields.items():
+        if key not in obj:
+            if required:
+                problems.append(f"{where} has no field {key!r}")
+        elif not test(obj[key]):
+            problems.append(f"{where} field {key!r} is {_short(obj[key])}, not {what}")
+    return problems
+
+
+def type_problems(results: dict) -> list[str]:
+    """Fields of ``results`` whose type is not the one a results JSON has (at most 3 shown)."""
+    problems = _field_problems(results, TOP_FIELDS, "results")
+    if not problems:
+        problems = _field_problems(results["config"], CONFIG_FIELDS, "config")
+    if not problems:
+        problems = [f"summary of split {split!r} is {_short(s)}, not an object" for split, s in results["splits"].items()
+                    if not isinstance(s, dict)]
+    for i, record in enumerate([] if problems else results["episodes"]):
+        problems += (_field_problems(record, RECORD_FIELDS, f"episodes[{i}]") if isinstance(record, dict)
+                     else [f"episodes[{i}] is {_short(record)}, not an object"])
+        if len(problems) >= 3:
+            break
+    return problems[:3]
+
+
+@functools.lru_cache(maxsize=8)
+def _suite(name: str, suite_config: str):
+    """The suite and its episodes by split and id (built once per process: stored entries share suites)."""
+    suite = make_suite(name, **json.loads(suite_config))
+    return suite, {split: {ep.episode_id: ep for ep in suite.episodes(split)} for split in suite.splits}
+
+
 def check_submission(results: dict) -> list[str]:
     """Every problem that keeps ``results`` off the leaderboard (empty when it is valid)."""
     missing = [key for key in REQUIRED if key not in results]
     if missing:
         return [f"missing field(s) {', '.join(missing)}: not a results JSON of objsearch-eval"]
+    problems = type_problems(results)
+    if problems:
+        return problems
     if results["schema_version"] != SCHEMA_VERSION:
         return [f"schema_version {results['schema_version']!r} is not the supported {SCHEMA_VERSION}"]
     suite_name = results["suite"]
     if suite_name not in SUITES:
         return [f"unknown suite {suite_name!r}"]
     config = results["config"]
+    if (config["agent"], config["suite"]) != (results["agent"], suite_name):
+        return [f"agent {results['agent']!r} on {suite_name!r} is not the config's {config['agent']!r} on {config['suite']!r}"]
     try:
-        suite = make_suite(suite_name, **config.get("suite_config", {}))
-    except (UserError, TypeError) as err:
+        suite, episodes = _suite(suite_name, json.dumps(config.get("suite_config", {}), sort_keys=True))
+    except (UserError, TypeError, ValueError) as err:
         return [f"suite configuration {config.get('suite_config')!r} is not valid: {err}"]
     if results["episode_set_version"] != suite.episode_set_version:
         return [
@@ -67,20 +162,25 @@ def check_submission(results: dict) -> list[str]:
         ]
     if results["episode_set_version"].startswith("custom:"):
         return ["custom maps/tasks are not a leaderboard episode set; evaluate on the suite's own splits"]
-    splits = list(config.get("splits", []))
+    splits = config["splits"]
     seeds = results["seeds"]
-    if list(config.get("seeds", [])) != list(seeds):
-        return [f"seeds {seeds} differ from the config's {config.get('seeds')}"]
+    if config["seeds"] != seeds:
+        return [f"seeds {seeds} differ from the config's {config['seeds']}"]
     unknown = [s for s in splits if s not in suite.splits]
     if unknown or not splits:
         return [f"splits {unknown or splits} are not splits of {suite_name} ({', '.join(suite.splits)})"]
     if sorted(results["splits"]) != sorted(splits):
         return [f"summary splits {sorted(results['splits'])} differ from the config's {sorted(splits)}"]
+    full = sorted(splits) == sorted(suite.splits) and sorted(seeds) == sorted(STANDARD_SEEDS)
+    standard = f"every split of {suite_name} ({', '.join(suite.splits)}) with seeds {','.join(map(str, STANDARD_SEEDS))}"
+    if not full and not results.get("partial", False):
+        return [f"covers splits {', '.join(splits)} with seeds {','.join(map(str, seeds))}, not {standard}; "
+                "evaluate with objsearch-eval's default splits and seeds, or add it with --partial (shown apart, not ranked)"]
+    if full and results.get("partial", False):
+        return [f"is marked partial but covers {standard}; add it without --partial"]
 
-    problems = []
-    episodes = {split: {ep.episode_id: ep for ep in suite.episodes(split)} for split in splits}
-    expected = set(plan_units(suite, splits, tuple(seeds)))
-    keys = Counter((r.get("split"), r.get("seed"), r.get("episode_id")) for r in results["episodes"])
+    expected = {(split, seed, i) for split in splits for seed in seeds for i in episodes[split]}
+    keys = Counter((r["split"], r["seed"], r["episode_id"]) for r in results["episodes"])
     duplicated = [k for k, n in keys.items() if n > 1]
     absent = expected - set(keys)
     extra = set(keys) - expected
@@ -98,7 +198,7 @@ def check_submission(results: dict) -> list[str]:
     for r in results["episodes"]:
         ep = episodes[r["split"]][r["episode_id"]]
         where = f"episode {r['split']}/seed {r['seed']}/{r['episode_id']}"
-        if r.get("min_steps") != ep.min_steps or r.get("task") != ep.describe or r.get("goal") != ep.goal_name:
+        if r["min_steps"] != ep.min_steps or r["task"] != ep.describe or r["goal"] != ep.goal_name:
             problems.append(f"{where} does not match the suite's episode (task, goal or min_steps changed)")
         elif r.get("spl") is not None and _differs(r["spl"], episode_spl(r["success"], r["min_steps"], r["steps"])):
             problems.append(f"{where}: spl {r['spl']} does not follow from its success and steps")
@@ -114,3 +214,39 @@ def check_submission(results: dict) -> list[str]:
             fields = [k for k in recomputed if _differs(results["splits"][split].get(k), recomputed[k])]
             problems.append(f"split {split}: summary ({', '.join(fields)}) differs from the one recomputed from its episodes")
     return problems
+
+
+def replay_sample(results: dict, k: int = VERIFY_EPISODES) -> list[tuple[str, int, int]]:
+    """``k`` (split, seed, episode_id) units of ``results``, chosen by a hash of its whole
+    content: any change to the submission draws another sample."""
+    digest = hashlib.sha256(json.dumps(results, sort_keys=True).encode()).hexdigest()
+    units = sorted({(r["split"], r["seed"], r["episode_id"]) for r in results["episodes"]})
+    rank = lambda u: hashlib.sha256(f"{digest}/{u[0]}/{u[1]}/{u[2]}".encode()).hexdigest()
+    return sorted(units, key=rank)[:k]
+
+
+def verify_submission(results: dict, k: int = VERIFY_EPISODES) -> list[str]:
+    """Problems found by replaying ``k`` of the episodes of a valid submission with the agent,
+    checkpoint and suite config it names (empty when every replayed record is identical)."""
+    problems = check_submission(results)
+    if problems:
+        return problems
+    c = results["config"]
+    config = EvalConfig(agent=results["agent"], suite=results["suite"], splits=tuple(c["splits"]), seeds=tuple(results["seeds"]),
+                        checkpoint=c.get("checkpoint"), suite_config=c.get("suite_config", {}), step_time_limit=None)
+    claimed = c.get("weights_sha256")
+    if claimed is not None:  # the weights the submission names must be the ones that load now
+        loaded = getattr(make_agent(config.agent, config.checkpoint, config.suite), "weights_sha256", None)
+        if loaded != claimed:
+            return [f"the submission used weights {claimed[:12]}, but agent {results['agent']!r} loads {str(loaded)[:12]} "
+                    f"(checkpoint {config.checkpoint or 'shipped'}); replay it with the weights it names"]
+    stored = {(r["split"], r["seed"], r["episode_id"]): r for r in results["episodes"]}
+    units = replay_sample(results, k)
+    for replayed in run_units(config, units, progress=False):
+        unit = (replayed["split"], replayed["seed"], replayed["episode_id"])
+        for key in REPLAYED:
+            if stored[unit].get(key) != replayed.get(key):
+                problems.append(f"episode {unit[0]}/seed {unit[1]}/{unit[2]}: {key} is {stored[unit].get(key)!r} in the "
+                                f"submission but {replayed.get(key)!r} when replayed with agent {results['agent']!r}")
+                break
+    return problems[:3] + ([f"{len(problems)} of {len(units)} replayed episodes differ"] if len(problems) > 3 else [])

@@ -11,14 +11,13 @@ from __future__ import annotations
 
 import hashlib
 import json
-import pickle
 from pathlib import Path
 
 import numpy as np
 import torch
 
+from objsearch import torchfile
 from objsearch.errors import UserError
-from objsearch.fileio import atomic_write
 from objsearch.house.categories import CATEGORY_TABLE_VERSION
 from objsearch.perception.metrics import Evaluation
 from objsearch.perception.model import MODEL_VERSION, ModelConfig, SegDepthNet, depth_from_log, pick_device, rgb_to_tensor
@@ -42,19 +41,15 @@ def save_checkpoint(path: str | Path, model: SegDepthNet, settings: dict) -> Non
     state = {"version": MODEL_VERSION, "model_config": model.config.to_json(), "settings": dict(settings),
              "categories": CATEGORY_TABLE_VERSION,
              "state_dict": {k: v.detach().cpu() for k, v in model.state_dict().items()}}
-    with atomic_write(path, "wb") as f:
-        torch.save(state, f)
+    torchfile.save(path, state)
 
 
 def load_checkpoint(path: str | Path) -> dict:
-    try:
-        state = torch.load(path, map_location="cpu", weights_only=True)
-    except (OSError, RuntimeError, EOFError, ValueError, pickle.UnpicklingError) as err:
-        raise UserError(f"cannot read perception checkpoint {path}: {err}") from None
+    state = torchfile.load(path, "a perception model.pt written by objsearch perception train")
     if not isinstance(state, dict) or state.get("version") != MODEL_VERSION:
         raise UserError(f"{path} is not a {MODEL_VERSION} checkpoint (objsearch perception train writes RUN/model.pt)")
-    if state["categories"] != CATEGORY_TABLE_VERSION:
-        raise UserError(f"{path} was trained on category table {state['categories']}, this is {CATEGORY_TABLE_VERSION}; retrain")
+    if state.get("categories") != CATEGORY_TABLE_VERSION:
+        raise UserError(f"{path} was trained on category table {state.get('categories')}, this is {CATEGORY_TABLE_VERSION}; retrain")
     return state
 
 

@@ -1,6 +1,12 @@
 """``objsearch cache build --suite NAME``: pre-render the observations of a suite's houses
 (and, with ``--observation predicted``, pre-compute the perception network's predictions),
-one house after another or, with ``--executor ray``, one Ray task per house."""
+one house after another or, with ``--executor ray``, one Ray task per house; a damaged
+cache is rebuilt. ``objsearch cache list`` shows the caches of the cache folder (house,
+kind, size, current or why not: file sizes and headers are checked, not digests) and
+leftover temp folders; ``objsearch cache verify``
+checks every file's sha256 (exit 2 if one is damaged); ``objsearch cache clear`` removes
+the caches that are not current (old versions, damaged: digests checked) and temp folders of killed builds,
+``--house ID`` every cache of a house, ``--all`` everything."""
 
 from __future__ import annotations
 
@@ -25,6 +31,96 @@ def add_parser(subparsers) -> None:
     build.add_argument("--perception", metavar="CHECKPOINT", help="the network for --observation predicted (default: the shipped one)")
     add_executor_arguments(build, "--cache-dir")
     build.set_defaults(func=run_build)
+    cache_dir_help = "cache folder (default: $OBJSEARCH_CACHE or ~/.cache/objsearch)"
+    listing = commands.add_parser("list", help="the caches in the cache folder: house, kind, size, current or not")
+    listing.add_argument("--cache-dir", help=cache_dir_help)
+    listing.set_defaults(func=run_list)
+    verify = commands.add_parser("verify", help="check the sha256 of every cache file (exit 2 if one is damaged)")
+    verify.add_argument("--cache-dir", help=cache_dir_help)
+    verify.add_argument("--suite", help="only the caches of this suite's houses (also its training houses)")
+    verify.set_defaults(func=run_verify)
+    clear = commands.add_parser("clear", help="remove caches: by default those not current and leftover temp folders")
+    clear.add_argument("--cache-dir", help=cache_dir_help)
+    which = clear.add_mutually_exclusive_group()
+    which.add_argument("--house", nargs="+", metavar="ID", help="every cache of these houses")
+    which.add_argument("--all", action="store_true", help="every cache")
+    clear.set_defaults(func=run_clear)
+
+
+def _root(args) -> Path:
+    from objsearch.sim.cache import default_cache_dir
+
+    return Path(args.cache_dir) if args.cache_dir else default_cache_dir()
+
+
+def run_list(args: argparse.Namespace) -> int:
+    from objsearch.fileio import abandoned_temp_folders
+    from objsearch.sim.cache import cache_folders, format_size
+
+    root = _root(args)
+    folders = cache_folders(root)
+    for c in folders:
+        state = "current" if c["problem"] is None else f"not current: {c['problem']}"
+        print(f"{c['house']:<16} {c['kind']:<9} {format_size(c['bytes']):>7}  {state}  {c['path'].name}")
+    abandoned = set(abandoned_temp_folders(root))
+    temps = sorted(p for p in root.glob(".*.tmp") if p.is_dir()) if root.is_dir() else []
+    for tmp in temps:
+        size = sum(f.stat().st_size for f in tmp.rglob("*") if f.is_file())
+        state = "left by an interrupted build" if tmp in abandoned else "a build in progress"
+        print(f"{'(temp)':<16} {'':<9} {format_size(size):>7}  {state}  {tmp.name}")
+    total = sum(c["bytes"] for c in folders)
+    print(f"{len(folders)} caches, {format_size(total)} in {root}")
+    return 0
+
+
+def run_verify(args: argparse.Namespace) -> int:
+    from objsearch.errors import UserError
+    from objsearch.sim.cache import cache_folders
+
+    root = _root(args)
+    houses = None
+    if args.suite:
+        from objsearch.sim.suites import load_suite_file
+
+        suite = load_suite_file(args.suite)
+        houses = {*suite["houses"], *suite.get("training_houses", {})}
+    folders = [c for c in cache_folders(root, digests=True) if houses is None or c["house"] in houses]
+    damaged = [c for c in folders if c["problem"] is not None]
+    for c in folders:
+        print(f"{c['path'].name}: {'ok' if c['problem'] is None else c['problem']}")
+    if damaged:
+        raise UserError(f"{len(damaged)} of {len(folders)} caches in {root} are not current or damaged; "
+                        "objsearch cache build rebuilds them, objsearch cache clear removes them")
+    print(f"{len(folders)} caches in {root}: all intact")
+    return 0
+
+
+def run_clear(args: argparse.Namespace) -> int:
+    import shutil
+
+    from objsearch.fileio import abandoned_temp_folders
+    from objsearch.sim.cache import locked, cache_folders, format_size
+
+    root = _root(args)
+    folders = cache_folders(root, digests=not (args.all or args.house))
+    if args.all:
+        doomed = folders
+    elif args.house:
+        doomed = [c for c in folders if c["house"] in args.house]
+    else:
+        doomed = [c for c in folders if c["problem"] is not None]
+    freed = 0
+    for c in doomed:
+        with locked(c["path"]):  # not while it is being built
+            shutil.rmtree(c["path"], ignore_errors=True)
+        freed += c["bytes"]
+    for tmp in abandoned_temp_folders(root):
+        freed += sum(f.stat().st_size for f in tmp.rglob("*") if f.is_file())
+        shutil.rmtree(tmp, ignore_errors=True)
+    kept = [c for c in folders if c not in doomed]
+    print(f"removed {len(doomed)} caches, {format_size(freed)} freed; kept {len(kept)} current caches "
+          f"({format_size(sum(c['bytes'] for c in kept))}) in {root}" + ("" if not kept else "; --all removes them too"))
+    return 0
 
 
 def run_build(args: argparse.Namespace) -> int:

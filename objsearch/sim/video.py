@@ -28,6 +28,14 @@ def _pixel(img_height: int, row: int, col: int) -> tuple[int, int]:
 def episode_map(world: World, start, goals, path_poses, trajectory) -> np.ndarray:
     """Top-down map: goal poses (green), a shortest path (blue, dashed), the agent's
     trajectory (red) from its start (ring) with its heading at the end (arrow)."""
+    img = _base_map(world, goals, path_poses)
+    for a, b in zip(trajectory[:-1], trajectory[1:]):
+        _draw_move(img, a, b)
+    _draw_agent(img, start, trajectory[-1])
+    return img
+
+
+def _base_map(world: World, goals, path_poses) -> np.ndarray:
     img = render_preview(world.spec)
     h = img.shape[0]
     for row, col, heading in goals:
@@ -35,14 +43,21 @@ def episode_map(world: World, start, goals, path_poses, trajectory) -> np.ndarra
     for a, b in zip(path_poses[:-1], path_poses[1:]):
         if (a[0], a[1]) != (b[0], b[1]):
             cv2.line(img, _pixel(h, a[0], a[1]), _pixel(h, b[0], b[1]), (200, 120, 40), 2, cv2.LINE_4)
-    for a, b in zip(trajectory[:-1], trajectory[1:]):
-        cv2.line(img, _pixel(h, a[0], a[1]), _pixel(h, b[0], b[1]), (40, 40, 220), 3, cv2.LINE_AA)
+    return img
+
+
+def _draw_move(img: np.ndarray, a, b) -> None:
+    h = img.shape[0]
+    cv2.line(img, _pixel(h, a[0], a[1]), _pixel(h, b[0], b[1]), (40, 40, 220), 3, cv2.LINE_AA)
+
+
+def _draw_agent(img: np.ndarray, start, pose) -> None:
+    h = img.shape[0]
     cv2.circle(img, _pixel(h, start[0], start[1]), 8, (40, 40, 220), 2, cv2.LINE_AA)
-    row, col, heading = trajectory[-1]
+    row, col, heading = pose
     dx, dy = HEADING_VECTORS[heading]
     tip = _pixel(h, row + 1.5 * dy, col + 1.5 * dx)
     cv2.arrowedLine(img, _pixel(h, row, col), tip, (40, 40, 220), 3, cv2.LINE_AA, tipLength=0.4)
-    return img
 
 
 def _encode_png(img: np.ndarray) -> bytes:
@@ -79,10 +94,14 @@ def write_episode(out_stem: str | Path, world: World, task, trajectory, views) -
     os.close(fd)
     try:
         writer = cv2.VideoWriter(tmp, cv2.VideoWriter_fourcc(*"mp4v"), FPS, size)
+        drawn = _base_map(world, task.goals, path)  # the map of each step is this one's trajectory so far, and the agent
         for step in range(len(trajectory)):
             frame = np.zeros((VIEW, size[0], 3), np.uint8)
             frame[:, :view_w] = cv2.resize(np.ascontiguousarray(views[step][:, :, ::-1]), (view_w, VIEW), interpolation=cv2.INTER_NEAREST)
-            step_map = episode_map(world, task.start, task.goals, path, trajectory[: step + 1])
+            if step:
+                _draw_move(drawn, trajectory[step - 1], trajectory[step])
+            step_map = drawn.copy()
+            _draw_agent(step_map, task.start, trajectory[step])
             frame[:, view_w:] = cv2.resize(step_map, (map_w, VIEW), interpolation=cv2.INTER_AREA)
             writer.write(frame)
         writer.release()

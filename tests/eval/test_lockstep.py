@@ -45,11 +45,3 @@ def test_an_interrupted_batched_run_resumes_to_the_sequential_records(tmp_path):
     assert InterruptedAgent.resets == 400 - kept, "only the missing episodes run again"
     sequential = evaluate(config, progress=False)
     assert resumed["episodes"] == sequential["episodes"] and json.loads(out.read_text()) == resumed
-
-
-def test_video_needs_one_episode_at_a_time(tmp_path):
-    from objsearch.errors import UserError
-
-    with pytest.raises(UserError, match="--batch"):
-        evaluate(EvalConfig(agent="random", suite="house-single", seeds=(1,)), progress=False, batch=4,
-                 video_dir=str(tmp_path))

@@ -117,6 +117,10 @@ def _spoil(folder: Path, how: str) -> None:
         (house / "house.xml").write_text(xml.replace("<worldbody>", "<worldbody><geom size='0.1'/>", 1))
     elif how == "broken house.xml":
         (house / "house.xml").write_text("<mujoco><worldbody>")
+    elif how == "spec.json missing a field":
+        spec = json.loads((house / "spec.json").read_text())
+        del spec["rooms"]
+        (house / "spec.json").write_text(json.dumps(spec))
 
 
 @pytest.mark.parametrize("how, message", [
@@ -124,6 +128,7 @@ def _spoil(folder: Path, how: str) -> None:
     ("changed spec.json", "changed after the suite was made"),
     ("edited house.xml", "no longer matches its house.xml"),
     ("broken house.xml", "cannot load house"),
+    ("spec.json missing a field", "is not a house spec"),
 ])
 def test_a_bad_house_stops_the_evaluation_naming_it(made, tmp_path, how, message):
     shutil.copytree(made / "houses", tmp_path / "houses")

@@ -16,23 +16,14 @@ ROOT = Path(__file__).resolve().parents[2]
 BIN = Path(sys.executable).parent
 
 
-@pytest.fixture(scope="module")
-def oracle_results():
-    return evaluate(EvalConfig(agent="oracle", splits=("unseen-goals",), seeds=(1, 5)), progress=False)
-
-
-@pytest.fixture(scope="module")
-def random_results():
-    return evaluate(EvalConfig(agent="random", splits=("unseen-goals",), seeds=(1, 5)), progress=False)
-
-
-def test_a_fresh_evaluation_is_valid(oracle_results, random_results):
-    assert check_submission(oracle_results) == []
-    assert check_submission(json.loads(json.dumps(random_results))) == []
+def test_a_fresh_evaluation_is_valid(full_oracle, oracle_results, random_results):
+    assert check_submission(full_oracle) == []
+    assert check_submission(dict(oracle_results, partial=True)) == []  # fixtures: one split, two seeds
+    assert check_submission(json.loads(json.dumps(dict(random_results, partial=True)))) == []
 
 
 def tampered(results, change):
-    bad = copy.deepcopy(results)
+    bad = copy.deepcopy(dict(results, partial=True))
     change(bad)
     return check_submission(bad)
 
@@ -84,15 +75,15 @@ def cli(*args, cwd):
     return subprocess.run([str(BIN / "objsearch"), "leaderboard", *args], capture_output=True, text=True, cwd=cwd, timeout=300)
 
 
-def test_add_check_and_render_through_the_cli(tmp_path, oracle_results, random_results):
-    (tmp_path / "oracle.json").write_text(json.dumps(oracle_results))
-    (tmp_path / "random.json").write_text(json.dumps(random_results))
-    bad = copy.deepcopy(random_results)
+def test_add_check_and_render_through_the_cli(tmp_path, full_oracle, full_random):
+    (tmp_path / "oracle.json").write_text(json.dumps(full_oracle))
+    (tmp_path / "random.json").write_text(json.dumps(full_random))
+    bad = copy.deepcopy(full_random)
     bad["episodes"].pop()
     (tmp_path / "bad.json").write_text(json.dumps(bad))
 
     for name in ("oracle", "random"):
-        out = cli("add", f"{name}.json", cwd=tmp_path)
+        out = cli("add", f"{name}.json", "--create", cwd=tmp_path)
         assert out.returncode == 0, out.stderr
     out = cli("add", "bad.json", "--name", "bad", cwd=tmp_path)
     assert out.returncode == 2 and "bad.json is rejected: 1 missing episode(s)" in out.stderr

@@ -64,6 +64,7 @@ class HouseSuite:
             from objsearch.perception.inference import Predictor, resolve_checkpoint
 
             self.perception = str(resolve_checkpoint(perception))
+            self.perception_given = perception  # what results record: None for the shipped network, on any machine
             self.predictor = Predictor.from_checkpoint(self.perception, device="cpu")
             if self.predictor.settings != GOAL_CAMERA.to_dict():
                 raise UserError(f"perception checkpoint {self.perception} was trained on frames rendered with "
@@ -75,7 +76,7 @@ class HouseSuite:
     def config(self) -> dict:
         config = {"mode": self.mode, "cache_dir": self.cache_dir, "max_steps": self.max_steps}
         if self.predictor is not None:
-            config.update(observation="predicted", perception=self.perception, perception_key=self.predictor.key)
+            config.update(observation="predicted", perception=self.perception_given, perception_key=self.predictor.key)
         return config
 
     @cached_property

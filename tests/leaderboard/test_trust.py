@@ -1,0 +1,194 @@
+"""The leaderboard trusts nothing it has not checked: coverage, field types, the folder it
+writes to, entry names, and a replay of a sample of every entry's episodes."""
+
+import copy
+import json
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+
+from objsearch.cli import main
+from objsearch.eval.metrics import summarize
+from objsearch.leaderboard.cli import default_name
+from objsearch.leaderboard.render import leaderboard_rows, render
+from objsearch.leaderboard.validate import check_submission, replay_sample, verify_submission
+
+BIN = Path(sys.executable).parent
+
+
+def run(capsys, *args) -> tuple[int, str, str]:
+    """``objsearch leaderboard ARGS`` in this process: (exit status, stdout, stderr)."""
+    code = main(["leaderboard", *map(str, args)])
+    out = capsys.readouterr()
+    return code, out.out, out.err
+
+
+def one_error_line(err: str) -> str:
+    lines = err.strip().splitlines()
+    assert len(lines) == 1 and lines[0].startswith("objsearch: error: ") and "Traceback" not in err, err
+    return lines[0]
+
+
+def test_a_submission_covers_every_split_with_the_standard_seeds_unless_marked_partial(full_oracle, oracle_results):
+    assert check_submission(full_oracle) == []
+    (problem,) = check_submission(oracle_results)  # one split, seeds 1,5
+    assert "covers splits unseen-goals with seeds 1,5, not every split of gridworld (seen-goals, unseen-goals, " \
+           "all-goals) with seeds 1,5,13,45,99" in problem and "--partial" in problem
+    assert check_submission(dict(oracle_results, partial=True)) == []
+    (problem,) = check_submission(dict(full_oracle, partial=True))
+    assert "is marked partial but covers every split" in problem
+
+
+def test_check_accepts_a_partial_file_only_with_partial(tmp_path, capsys, oracle_results):
+    (tmp_path / "part.json").write_text(json.dumps(oracle_results))
+    code, _, err = run(capsys, "check", tmp_path / "part.json")
+    assert code == 2 and "covers splits unseen-goals with seeds 1,5" in one_error_line(err)
+    code, out, _ = run(capsys, "check", "--partial", tmp_path / "part.json")
+    assert code == 0 and "(partial, oracle on gridworld, 200 episodes)" in out
+
+
+def test_partial_entries_are_listed_apart_and_never_ranked(tmp_path, full_random, oracle_results):
+    store = tmp_path / "submissions" / "gridworld"
+    store.mkdir(parents=True)
+    (store / "random.json").write_text(json.dumps(full_random))
+    (store / "oracle_part.json").write_text(json.dumps(dict(oracle_results, partial=True)))
+    render(tmp_path)
+    readme = (tmp_path / "README.md").read_text()
+    ranked, apart = readme.split("## Partial submissions (not ranked)")
+    assert "| 1 | random |" in ranked and "oracle_part" not in ranked
+    assert "### gridworld — unseen-goals (partial)" in apart and "| – | oracle_part | gt | 1.00 |" in apart
+    assert "oracle_part" not in (tmp_path / "index.html").read_text()
+    assert "oracle_part" not in (tmp_path / "paper_tables.md").read_text()
+    submissions = [("random", full_random), ("oracle_part", dict(oracle_results, partial=True))]
+    assert [r["name"] for r in leaderboard_rows(submissions)["gridworld"]["unseen-goals"]] == ["random"]
+
+
+def _first(key):
+    return lambda r: r["episodes"][0].pop(key)
+
+
+MUTATIONS = [
+    (lambda r: r["episodes"].__setitem__(0, "an episode"), "episodes[0] is 'an episode', not an object"),
+    (lambda r: r.update(config=None), "results field 'config' is None, not an object"),
+    (lambda r: r.update(episodes={"0": {}}), "results field 'episodes' is {'0': {}}, not a list"),
+    (lambda r: r.update(seeds=["1", "5"]), "results field 'seeds' is ['1', '5'], not a list of non-negative integers"),
+    (lambda r: r["config"].update(seeds=[1.0, 5]), "config field 'seeds' is [1.0, 5]"),
+    (lambda r: r["episodes"][1].update(success="yes"), "episodes[1] field 'success' is 'yes', not true or false"),
+    (lambda r: r["episodes"][2].update(episode_id=[2]), "episodes[2] field 'episode_id' is [2], not an integer"),
+    (lambda r: r["episodes"][0].update(steps="12"), "episodes[0] field 'steps' is '12', not an integer"),
+    (_first("min_steps"), "episodes[0] has no field 'min_steps'"),
+    (lambda r: r["splits"].update({"unseen-goals": [0.5]}), "summary of split 'unseen-goals' is [0.5], not an object"),
+    (lambda r: r["config"].update(suite_config=["maps"]), "config field 'suite_config' is ['maps'], not an object"),
+    (lambda r: r["config"].update(suite_config={"max_steps": "many"}), "suite configuration {'max_steps': 'many'} is not valid"),
+    (lambda r: r.update(episode_set_version=7), "results field 'episode_set_version' is 7, not a string"),
+    (lambda r: r.update(partial="yes"), "results field 'partial' is 'yes', not true or false"),
+]
+
+
+@pytest.mark.parametrize("change, message", MUTATIONS)
+def test_wrong_typed_fields_are_problems_not_tracebacks(tmp_path, capsys, oracle_results, change, message):
+    bad = copy.deepcopy(dict(oracle_results, partial=True))
+    change(bad)
+    problems = check_submission(bad)
+    assert any(message in p for p in problems), problems
+    (tmp_path / "bad.json").write_text(json.dumps(bad))
+    code, _, err = run(capsys, "check", tmp_path / "bad.json")
+    assert code == 2 and message in one_error_line(err)
+
+
+def test_the_installed_command_says_one_line_for_a_wrong_typed_field(tmp_path, oracle_results):
+    bad = dict(copy.deepcopy(oracle_results), partial=True)
+    bad["episodes"][4]["seed"] = "five"
+    (tmp_path / "bad.json").write_text(json.dumps(bad))
+    out = subprocess.run([str(BIN / "objsearch"), "leaderboard", "check", "bad.json"], capture_output=True, text=True,
+                         cwd=tmp_path, timeout=120)
+    assert out.returncode == 2 and "episodes[4] field 'seed' is 'five', not an integer" in one_error_line(out.stderr)
+
+
+def test_add_writes_nothing_when_another_stored_entry_is_bad(tmp_path, capsys, oracle_results, random_results):
+    board = tmp_path / "board"
+    (tmp_path / "oracle.json").write_text(json.dumps(oracle_results))
+    (tmp_path / "random.json").write_text(json.dumps(random_results))
+    assert run(capsys, "--dir", board, "add", tmp_path / "oracle.json", "--partial", "--create")[0] == 0
+    pages = {p: (board / p).read_text() for p in ("README.md", "index.html", "paper_tables.md")}
+    stored = board / "submissions" / "gridworld"
+    (stored / "broken.json").write_text(json.dumps(dict(oracle_results, partial=True, config=None)))
+    code, _, err = run(capsys, "--dir", board, "add", tmp_path / "random.json", "--partial")
+    assert code == 2 and "broken.json is rejected: results field 'config' is None" in one_error_line(err)
+    assert sorted(p.name for p in stored.iterdir()) == ["broken.json", "oracle.json"]
+    assert pages == {p: (board / p).read_text() for p in pages}
+
+
+def test_add_refuses_a_folder_that_is_not_a_leaderboard(tmp_path, capsys, oracle_results):
+    (tmp_path / "oracle.json").write_text(json.dumps(oracle_results))
+    code, _, err = run(capsys, "--dir", tmp_path / "elsewhere", "add", tmp_path / "oracle.json", "--partial")
+    line = one_error_line(err)
+    assert code == 2 and f"{tmp_path / 'elsewhere'} is not a leaderboard folder (it has no submissions/ folder)" in line
+    assert "--create" in line and not (tmp_path / "elsewhere").exists()
+    out = subprocess.run([str(BIN / "objsearch"), "leaderboard", "add", "oracle.json", "--partial"], capture_output=True,
+                         text=True, cwd=tmp_path, timeout=120)
+    assert out.returncode == 2 and "leaderboard is not a leaderboard folder" in out.stderr
+    assert not (tmp_path / "leaderboard").exists()
+    assert run(capsys, "--dir", tmp_path / "elsewhere", "add", tmp_path / "oracle.json", "--partial", "--create")[0] == 0
+    assert (tmp_path / "elsewhere/submissions/gridworld/oracle.json").is_file()
+
+
+def test_a_module_class_agent_gets_a_default_name_and_a_bad_name_is_refused(tmp_path, capsys, oracle_results):
+    assert default_name("mymodule:MyAgent") == "mymodule.MyAgent"
+    assert default_name("my pkg.mod:Agent<v2>") == "my_pkg.mod.Agent_v2_"
+    assert default_name("random") == "random"
+    plugin = copy.deepcopy(oracle_results)
+    plugin["agent"] = plugin["config"]["agent"] = "mypkg.mymodule:MyAgent"
+    (tmp_path / "plugin.json").write_text(json.dumps(plugin))
+    board = tmp_path / "board"
+    assert run(capsys, "--dir", board, "add", tmp_path / "plugin.json", "--partial", "--create")[0] == 0
+    assert (board / "submissions/gridworld/mypkg.mymodule.MyAgent.json").is_file()
+    for name in ("abc\n", "-abc", "a/b", ""):
+        code, _, err = run(capsys, "--dir", board, "add", tmp_path / "plugin.json", "--partial", f"--name={name}")
+        assert code == 2 and f"entry name {name!r} must start with a letter or digit" in err and "Traceback" not in err
+    assert sorted(p.name for p in (board / "submissions/gridworld").iterdir()) == ["mypkg.mymodule.MyAgent.json"]
+
+
+def test_the_replayed_sample_depends_on_the_whole_content(random_results):
+    sample = replay_sample(random_results, 8)
+    assert len(set(sample)) == 8 and sample == replay_sample(copy.deepcopy(random_results), 8)
+    assert sample != replay_sample(dict(random_results, git_commit="another"), 8)
+
+
+def test_verify_replays_genuine_entries(random_results):
+    assert verify_submission(dict(random_results, partial=True), 4) == []
+
+
+def test_a_renamed_agent_fails_verify(random_results):
+    renamed = copy.deepcopy(dict(random_results, partial=True))
+    renamed["agent"] = renamed["config"]["agent"] = "oracle"  # random's records, claimed as the oracle's
+    assert check_submission(renamed) == []
+    problems = verify_submission(renamed, 4)
+    assert problems and all("when replayed with agent 'oracle'" in p for p in problems[:3]), problems
+    assert any(": success is False in the submission but True" in p for p in problems), problems
+
+
+def test_a_self_consistent_fake_fails_verify(tmp_path, capsys, random_results):
+    fake = copy.deepcopy(dict(random_results, partial=True))
+    for r in fake["episodes"]:
+        r.update(success=True, steps=r["min_steps"], spl=1.0)
+    fake["splits"] = {split: summarize([r for r in fake["episodes"] if r["split"] == split]) for split in fake["splits"]}
+    assert check_submission(fake) == []  # every check on its own content passes
+    problems = verify_submission(fake, 4)
+    assert problems and "in the submission but" in problems[0] and "when replayed with agent 'random'" in problems[0]
+
+    board = tmp_path / "board"
+    (tmp_path / "fake.json").write_text(json.dumps(fake))
+    (tmp_path / "genuine.json").write_text(json.dumps(random_results))
+    assert run(capsys, "--dir", board, "add", tmp_path / "genuine.json", "--partial", "--create")[0] == 0
+    code, out, _ = run(capsys, "--dir", board, "verify", "gridworld/random", "--episodes", "2")
+    assert code == 0 and "verified: " in out and "(2 replayed episodes identical" in out
+    assert run(capsys, "--dir", board, "add", tmp_path / "fake.json", "--partial", "--name", "fake")[0] == 0
+    code, _, err = run(capsys, "--dir", board, "verify", "--all", "--episodes", "2")
+    line = one_error_line(err)
+    assert code == 2 and "fake.json fails verification: episode unseen-goals/seed " in line
+    assert "is True in the submission but False when replayed" in line or "steps is" in line
+    code, _, err = run(capsys, "--dir", board, "verify", "gridworld/nosuch")
+    assert code == 2 and "no stored entry 'gridworld/nosuch'" in one_error_line(err)
