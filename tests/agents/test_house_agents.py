@@ -7,6 +7,7 @@ import numpy as np
 import pytest
 import torch
 
+from objsearch import torchfile
 from objsearch.errors import UserError
 from objsearch.house.categories import CATEGORY_IDS, FIRST_OBJECT_ID
 from objsearch.sim.env import HouseEnv
@@ -276,10 +277,13 @@ def test_house_agents_refuse_other_checkpoints_and_suites(tmp_path):
     assert make_agent("dqn", str(tmp_path), suite="house-multi").policy.config.method == "dqn"
     state = torch.load(tmp_path / "policy.pt", weights_only=True)
     state["camera"] = {**GOAL_CAMERA.to_dict(), "width": 128}
-    torch.save(state, tmp_path / "policy.pt")
+    torchfile.save(tmp_path / "policy.pt", state)
     with pytest.raises(UserError, match="camera"):
         make_agent("dqn", str(tmp_path), suite="house-multi")
     (tmp_path / "policy.pt").write_text("not a checkpoint")
+    with pytest.raises(UserError, match="policy.pt does not match its digest"):
+        make_agent("dqn", str(tmp_path), suite="house-multi")
+    (tmp_path / "SHA256SUMS").unlink()  # a file with no recorded digest is read, and refused for what it holds
     with pytest.raises(UserError, match="cannot read checkpoint"):
         make_agent("dqn", str(tmp_path), suite="house-multi")
     assert not (CHECKPOINTS / "house-gen" / "hrl_grg_no_relation").exists()
