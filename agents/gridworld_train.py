@@ -309,14 +309,7 @@ def _run_phase(config: GridAgentConfig, out: Path, maps, progress: bool, fresh: 
     run = TrainRun(config, out, maps)
     state_path = out / STATE_FILE
     if state_path.exists() and not fresh:
-        state = torchfile.load(state_path, "the state.pt of a grid-world training run")
-        with torchfile.fitting(state_path, "the state.pt of a grid-world training run"):
-            saved = GridAgentConfig.from_json(state["config"])
-            if replace(saved, episodes=config.episodes) != config:
-                diff = [f for f, v in config.to_json().items() if saved.to_json().get(f) != v and f != "episodes"]
-                raise UserError(f"{out} holds a run with another config (fields {', '.join(diff)}); "
-                                "pass another --out, the same settings, or --fresh to start over")
-            run.load_state_dict(state)
+        torchfile.resume(state_path, config, run.load_state_dict, "episodes", "the state.pt of a grid-world training run")
     else:
         if init_low is not None:
             run.policy.low.load_state_dict(init_low)

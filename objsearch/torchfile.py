@@ -12,6 +12,7 @@ folder's ``SHA256SUMS`` and checked against it when read (``objsearch.digests``)
 from __future__ import annotations
 
 import contextlib
+import dataclasses
 import os
 from pathlib import Path
 
@@ -89,3 +90,21 @@ def fitting(path: str | os.PathLike, expected: str):
         reason = str(err).strip().splitlines()[0] if str(err).strip() else type(err).__name__
         raise UserError(f"checkpoint {path} does not hold what it should ({type(err).__name__}: {reason[:200]}); "
                         f"expected {expected}") from None
+
+
+def resume(path: str | os.PathLike, config, restore, budget: str | None = None, expected: str = "a training run's state.pt"):
+    """Resume a training run from its ``state.pt`` at ``path``: read it, refuse one written
+    with another ``config`` (a dataclass with ``to_json``/``from_json``; the field ``budget``,
+    the run's length, may differ: a rerun extends it), then ``restore(state)``. Contents that
+    do not fit are a ``UserError``, as in ``fitting``."""
+    path = Path(path)
+    state = load(path, expected)
+    with fitting(path, expected):
+        saved = type(config).from_json(state["config"])
+        if budget is not None:
+            saved = dataclasses.replace(saved, **{budget: getattr(config, budget)})
+        if saved != config:
+            diff = [f for f, v in config.to_json().items() if saved.to_json().get(f) != v]
+            raise UserError(f"{path.parent} holds a run with another config (fields {', '.join(diff)}); "
+                            "pass another --out, the same settings, or --fresh to start over")
+        restore(state)

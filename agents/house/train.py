@@ -316,14 +316,7 @@ def _run_phase(config: HouseAgentConfig, out: Path, houses: TrainingHouses, pool
     run = HouseTrainRun(config, out, houses, pool)
     state_path = out / STATE_FILE
     if state_path.exists() and not fresh:
-        state = load_checkpoint_file(state_path)
-        with torchfile.fitting(state_path, "the state.pt of a house training run"):
-            saved = HouseAgentConfig.from_json(state["config"])
-            if replace(saved, steps=config.steps) != config:
-                diff = [f for f, v in config.to_json().items() if saved.to_json().get(f) != v and f != "steps"]
-                raise UserError(f"{out} holds a run with another config (fields {', '.join(diff)}); "
-                                "pass another --out, the same settings, or --fresh to start over")
-            run.load_state_dict(state)
+        torchfile.resume(state_path, config, run.load_state_dict, "steps", "the state.pt of a house training run")
     else:
         if init_ac is not None:
             run.policy.ac.load_state_dict(init_ac)

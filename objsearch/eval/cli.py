@@ -62,7 +62,7 @@ def configure(parser: argparse.ArgumentParser) -> argparse.ArgumentParser:
                              "of each split (first seed) here")
     parser.add_argument("--video-episodes", type=positive_int, default=DEFAULT_VIDEO_EPISODES, metavar="N",
                         help=f"with --video: episodes per split that get pictures; they play one at a time, the "
-                             f"rest batched (default: {DEFAULT_VIDEO_EPISODES}; each costs about 10 ms a step, README)")
+                             f"rest batched (default: {DEFAULT_VIDEO_EPISODES}; what each costs: README)")
     parser.add_argument("--list-agents", action="store_true", help="list the installed agents and exit")
     parser.add_argument("--quiet", action="store_true", help="no progress bar")
     parser.set_defaults(func=run)

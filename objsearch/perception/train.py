@@ -110,15 +110,12 @@ class TrainRun:
         self._perm_epoch, self._perm = -1, None
         state_path = self.out / STATE_FILE
         if state_path.exists() and not fresh:
-            state = torchfile.load(state_path, "the state.pt of a perception training run")
-            with torchfile.fitting(state_path, "the state.pt of a perception training run"):
-                saved = TrainConfig.from_json(state["config"])
-                if saved != config:
-                    raise UserError(f"{self.out} holds a run with another config ({self.out / CONFIG_FILE}); "
-                                    "use another --out, the same options, or --fresh to start over")
-                self.model.load_state_dict(state["model"])
-                self.optimizer.load_state_dict(state["optimizer"])
-                self.step, self.wall_s, self.rows = state["step"], state["wall_s"], list(state["rows"])
+            torchfile.resume(state_path, config, self.load_state_dict, expected="the state.pt of a perception training run")
+
+    def load_state_dict(self, state: dict) -> None:
+        self.model.load_state_dict(state["model"])
+        self.optimizer.load_state_dict(state["optimizer"])
+        self.step, self.wall_s, self.rows = state["step"], state["wall_s"], list(state["rows"])
 
     def batch_indices(self, step: int) -> np.ndarray:
         epoch, i = divmod(step, self.steps_per_epoch)

@@ -175,16 +175,19 @@ def _ensure_folder(directory: Path, expected: dict, layers: dict, fill, what: st
     (``check_folder``); otherwise rebuild it: ``fill`` writes the arrays into a temp folder
     that is then renamed into place. One process at a time (a lock file beside it).
     Returns the metadata (``expected`` plus the files' sizes and digests)."""
+    def intact() -> dict:  # remember it, so that this process does not hash it again while it is unchanged
+        _VERIFIED[directory] = (_signature(directory, layers), expected)
+        return json.loads((directory / "meta.json").read_text())
+
     signature = _signature(directory, layers)
     if signature is not None and _VERIFIED.get(directory) == (signature, expected):
         return json.loads((directory / "meta.json").read_text())  # checked in this process, and unchanged since
     if check_folder(directory, expected, layers) is None:  # the usual case: no lock (a cache may be read-only)
-        _VERIFIED[directory] = (signature, expected)
-        return json.loads((directory / "meta.json").read_text())
+        return intact()
     with locked(directory):
         problem = check_folder(directory, expected, layers)  # again: another process may have built it meanwhile
         if problem is None:
-            return json.loads((directory / "meta.json").read_text())
+            return intact()
         if (directory / "meta.json").exists():
             print(f"{what}: {problem}; rebuilding {directory}", file=sys.stderr)
         for stale in abandoned_temp_folders(directory.parent):
@@ -196,7 +199,7 @@ def _ensure_folder(directory: Path, expected: dict, layers: dict, fill, what: st
             (tmp / "meta.json").write_text(json.dumps(meta, indent=1) + "\n")
         size = sum(f["bytes"] for f in meta["files"].values())
         print(f"{what}: {format_size(size)} in {_home_short(directory)}", file=sys.stderr)
-        return meta
+        return intact()
 
 
 _VERIFIED: dict[Path, tuple] = {}  # cache folder -> (its files' signature, metadata) when its digests last matched
@@ -207,10 +210,10 @@ def _signature(directory: Path, layers: dict) -> tuple | None:
     its digests were checked in this process is not hashed again (every env of a batched
     evaluation opens every house's cache)."""
     try:
-        return tuple((name, st.st_size, st.st_mtime_ns, st.st_ino) for name in ["meta", *layers]
-                     for st in [os.stat(directory / f"{name}.{'json' if name == 'meta' else 'npy'}")])
+        stats = [os.stat(directory / name) for name in ["meta.json", *(f"{layer}.npy" for layer in layers)]]
     except OSError:
         return None
+    return tuple((st.st_size, st.st_mtime_ns, st.st_ino) for st in stats)
 
 
 def check_folder(directory: Path, expected: dict | None = None, layers: dict | None = None,
@@ -286,6 +289,10 @@ def locked(directory: Path):
     finally:
         os.unlink(path)  # while still held: whoever waits on it sees it is gone and locks a new one
         os.close(fd)
+
+
+def folder_bytes(path: Path) -> int:
+    return sum(f.stat().st_size for f in path.rglob("*") if f.is_file())
 
 
 def format_size(size: int) -> str:
@@ -373,7 +380,7 @@ def cache_folders(root: Path, digests: bool = False) -> list[dict]:
         except (OSError, ValueError, AttributeError):
             version, house = None, path.name.split("-")[0]
         kind = "predicted" if "-pred-" in path.name else "obs"
-        size = sum(f.stat().st_size for f in path.rglob("*") if f.is_file())
+        size = folder_bytes(path)
         if version != (PREDICTED_VERSION if kind == "predicted" else CACHE_VERSION):
             problem = "no meta.json" if version is None else f"old version {version}"
         else:

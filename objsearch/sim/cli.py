@@ -55,7 +55,7 @@ def _root(args) -> Path:
 
 def run_list(args: argparse.Namespace) -> int:
     from objsearch.fileio import abandoned_temp_folders
-    from objsearch.sim.cache import cache_folders, format_size
+    from objsearch.sim.cache import cache_folders, folder_bytes, format_size
 
     root = _root(args)
     folders = cache_folders(root)
@@ -65,7 +65,7 @@ def run_list(args: argparse.Namespace) -> int:
     abandoned = set(abandoned_temp_folders(root))
     temps = sorted(p for p in root.glob(".*.tmp") if p.is_dir()) if root.is_dir() else []
     for tmp in temps:
-        size = sum(f.stat().st_size for f in tmp.rglob("*") if f.is_file())
+        size = folder_bytes(tmp)
         state = "left by an interrupted build" if tmp in abandoned else "a build in progress"
         print(f"{'(temp)':<16} {'':<9} {format_size(size):>7}  {state}  {tmp.name}")
     total = sum(c["bytes"] for c in folders)
@@ -99,7 +99,7 @@ def run_clear(args: argparse.Namespace) -> int:
     import shutil
 
     from objsearch.fileio import abandoned_temp_folders
-    from objsearch.sim.cache import locked, cache_folders, format_size
+    from objsearch.sim.cache import cache_folders, folder_bytes, format_size, locked
 
     root = _root(args)
     folders = cache_folders(root, digests=not (args.all or args.house))
@@ -115,7 +115,7 @@ def run_clear(args: argparse.Namespace) -> int:
             shutil.rmtree(c["path"], ignore_errors=True)
         freed += c["bytes"]
     for tmp in abandoned_temp_folders(root):
-        freed += sum(f.stat().st_size for f in tmp.rglob("*") if f.is_file())
+        freed += folder_bytes(tmp)
         shutil.rmtree(tmp, ignore_errors=True)
     kept = [c for c in folders if c not in doomed]
     print(f"removed {len(doomed)} caches, {format_size(freed)} freed; kept {len(kept)} current caches "
