@@ -21,9 +21,10 @@ from pathlib import Path
 
 import numpy as np
 
-from objsearch import digests, torchfile
+from objsearch import digests
 from objsearch.errors import UserError
 from objsearch.eval.agent import AgentTask
+from objsearch_agents.gridworld_checkpoint import POLICY_FILE, load_policy
 from objsearch_agents.gridworld_config import GridAgentConfig
 from objsearch_agents.gridworld_policy import GridPolicy
 from objsearch_agents.rows import RowRandom
@@ -75,41 +76,29 @@ class GridAgent:
         """The shipped checkpoint this agent loads when given none, if there is one."""
         if cls.checkpoint_name is None:
             return None
-        path = CHECKPOINTS / cls.checkpoint_name / "policy.pt"
+        path = CHECKPOINTS / cls.checkpoint_name / POLICY_FILE
         return path if path.exists() else None
 
     def _build(self, config: GridAgentConfig, num_goals: int = 16) -> None:
-        self.policy = GridPolicy(config, num_goals=num_goals)
-        self.epsilon = config.eval_epsilon if self._epsilon_override is None else float(self._epsilon_override)
+        self._use(GridPolicy(config, num_goals=num_goals))
+
+    def _use(self, policy: GridPolicy) -> None:
+        self.policy = policy
+        self.epsilon = policy.config.eval_epsilon if self._epsilon_override is None else float(self._epsilon_override)
 
     # -- checkpoints ------------------------------------------------------------------------
     def load(self, path: str | os.PathLike) -> None:
         """Load ``policy.pt`` (or a run directory holding it) and ``grg.npz`` beside it."""
-        from objsearch_agents.grg import GoalsRelationalGraph
-        from objsearch_agents.gridworld_train import GRG_FILE, POLICY_FILE, load_policy_file
-
-        path = Path(path)
-        if path.is_dir():
-            path = path / POLICY_FILE
-        if not path.exists():
-            raise UserError(f"checkpoint {path} does not exist; pass a policy.pt or a training run directory")
-        state = load_policy_file(path)
-        files = [path]
-        with torchfile.fitting(path, "a grid-world policy.pt written by objsearch train"):
-            saved = GridAgentConfig.from_json(state["config"])
-            mine = self.config
-            if (saved.method, saved.relation, saved.termination, saved.high_level) != (mine.method, mine.relation, mine.termination, mine.high_level):
-                raise UserError(f"checkpoint {path} was trained as {describe(saved)}, not {describe(mine)}; pick the matching --agent")
-            self._build(saved, int(state["num_goals"]))
-            self.policy.low.load_state_dict(state["low"])
-            if self.policy.high is not None:
-                self.policy.high.load_state_dict(state["high"])
-        if self.policy.grg is not None:
-            files.append(path.parent / GRG_FILE)
-            self.policy.grg = GoalsRelationalGraph.load(files[-1])
-            self.policy.refresh_plans()
-        self.loaded_from = str(path)
+        policy, files = load_policy(path, self._check_method)
+        self._use(policy)
+        self.loaded_from = str(files[0])
         self.weights_sha256 = digests.of_files(files)
+
+    def _check_method(self, saved: GridAgentConfig, path: Path) -> None:
+        """Refuse a checkpoint trained as another method or ablation than this agent's."""
+        mine = self.config
+        if (saved.method, saved.relation, saved.termination, saved.high_level) != (mine.method, mine.relation, mine.termination, mine.high_level):
+            raise UserError(f"checkpoint {path} was trained as {describe(saved)}, not {describe(mine)}; pick the matching --agent")
 
     # -- the protocol (one episode, or N in lockstep: the same code) -------------------------
     def reset(self, task: AgentTask) -> None:

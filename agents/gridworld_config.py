@@ -5,22 +5,22 @@ checkpoint, so a run can be rebuilt from the file alone."""
 
 from __future__ import annotations
 
-import dataclasses
-import json
-import os
-from dataclasses import dataclass, fields
-from pathlib import Path
+from dataclasses import dataclass
 
-from objsearch.configs import require_at_least, typed_field
+from objsearch.configs import JsonConfig, require_at_least
 from objsearch.errors import UserError
-from objsearch.fileio import write_json
 
 METHODS = ("dqn", "hdqn", "hrl_grg")
 STARTS = ("curriculum", "visible")
 
 
 @dataclass(frozen=True)
-class GridAgentConfig:
+class GridAgentConfig(JsonConfig):
+    """Serialised, read and overridden (``--set``) through ``objsearch.configs.JsonConfig``."""
+
+    DESCRIPTION = "a grid-world agent config"
+    LEGACY_KEYS = {}  # no field has been renamed or removed since the first checkpoints
+
     method: str = "hrl_grg"
     """Which learner: ``dqn`` (flat), ``hdqn`` (17-output high level) or ``hrl_grg``."""
     relation: bool = True
@@ -96,22 +96,3 @@ class GridAgentConfig:
     @property
     def hierarchical(self) -> bool:
         return self.method != "dqn"
-
-    def to_json(self) -> dict:
-        return dataclasses.asdict(self)
-
-    @classmethod
-    def from_json(cls, data: dict) -> "GridAgentConfig":
-        known = {f.name for f in fields(cls)}
-        return cls(**{k: v for k, v in data.items() if k in known})
-
-    def save(self, path: str | os.PathLike) -> None:
-        write_json(path, self.to_json())
-
-    @classmethod
-    def load(cls, path: str | os.PathLike) -> "GridAgentConfig":
-        return cls.from_json(json.loads(Path(path).read_text()))
-
-    def with_overrides(self, overrides: dict[str, str]) -> "GridAgentConfig":
-        """A copy with fields set from ``KEY=VALUE`` strings (``--set``), typed like the defaults."""
-        return dataclasses.replace(self, **{key: typed_field(self, key, text) for key, text in overrides.items()})

@@ -25,11 +25,12 @@ Deviations forced by batching (documented in ``docs/gridworld_agents.md``, "Choi
   options that end within the step). The high level's relation weights at update time
   come from the current graph.
 
-Files in the run directory: ``config.json``, ``command.txt``, ``policy.pt`` (+ ``grg.npz``)
-the evaluable policy, ``state.pt`` everything needed to resume (networks, optimisers,
-replay memories, env and option state, random generator, counters, log rows),
-``log.csv``. A run resumes from ``state.pt`` when restarted with the same config (only
-``episodes`` may change) and then gives the same result as an uninterrupted run.
+Files in the run directory (their format: ``gridworld_checkpoint``): ``config.json``,
+``command.txt``, ``policy.pt`` (+ ``grg.npz``) the evaluable policy, ``state.pt`` everything
+needed to resume (networks, optimisers, replay memories, env and option state, random
+generator, counters, log rows), ``log.csv``. A run resumes from ``state.pt`` when restarted
+with the same config (only ``episodes`` may change) and then gives the same result as an
+uninterrupted run.
 """
 
 from __future__ import annotations
@@ -43,19 +44,18 @@ import torch
 from tqdm import tqdm
 
 from objsearch import torchfile
-from objsearch.errors import UserError
 from objsearch.fileio import atomic_write, write_csv
 from objsearch.interrupt import stop_on_interrupt
 from objsearch.gridworld.batched import HALF, BatchedGridWorld, GridTables
 from objsearch.gridworld.maps import GridMap
 from objsearch.gridworld.tasks import SEEN_GOALS
 from objsearch_agents.dqn_learner import Learner, flat_loss, grg_high_loss, hdqn_high_loss
+from objsearch_agents.gridworld_checkpoint import CONFIG_FILE, LOG_FILE, STATE_FILE, load_policy_file, save_policy
 from objsearch_agents.gridworld_config import GridAgentConfig
 from objsearch_agents.gridworld_policy import GridPolicy, goal_input, goals_under_agent
 from objsearch_agents.replay import ReplayBuffer
 
 LOG_FIELDS = ("episodes", "env_steps", "updates", "epsilon", "success_rate", "mean_steps", "loss_low", "loss_high", "grg_counts", "wall_s")
-POLICY_FILE, STATE_FILE, CONFIG_FILE, LOG_FILE, GRG_FILE = "policy.pt", "state.pt", "config.json", "log.csv", "grg.npz"
 
 
 class StartSampler:
@@ -286,23 +286,6 @@ class TrainRun:
             finally:
                 bar.close()
             return not stop.is_set()
-
-
-def save_policy(policy: GridPolicy, out: Path) -> None:
-    """The evaluable policy: ``policy.pt`` (network weights and config) and ``grg.npz``."""
-    state = {"config": policy.config.to_json(), "num_goals": policy.num_goals, "low": policy.low.state_dict(),
-             "high": policy.high.state_dict() if policy.high is not None else None}
-    torchfile.save(out / POLICY_FILE, state)
-    if policy.grg is not None:
-        policy.grg.save(out / GRG_FILE)
-
-
-def load_policy_file(path: Path) -> dict:
-    state = torchfile.load(path, "a grid-world policy.pt written by objsearch train")
-    if not isinstance(state, dict) or not {"config", "num_goals", "low"} <= set(state):
-        raise UserError(f"checkpoint {path} is not a grid-world policy.pt (no config/low weights); "
-                        "pass one written by objsearch train --suite gridworld")
-    return state
 
 
 def _run_phase(config: GridAgentConfig, out: Path, maps, progress: bool, fresh: bool, init_low: dict | None) -> TrainRun:

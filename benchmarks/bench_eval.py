@@ -1,7 +1,7 @@
 """Evaluation throughput: episodes per second of the harness, batched (``--batch N``) against
 one episode at a time, in the same run, on one worker.
 
-    .venv/bin/python benchmarks/bench_eval.py [--batch 64] [--json]
+    .venv/bin/python benchmarks/bench_eval.py [--batch 64] [--suite gridworld] [--json]
 
 Measured: the shipped ``hrl_grg`` and ``dqn`` on the grid world (split ``all-goals``, seed
 1: 100 episodes; the full protocol is 15 x that), and ``random`` and the shipped
@@ -14,6 +14,8 @@ grid world (1,500 episodes; one at a time and ``--batch 64``) and on ``house-sin
 With ``--json`` the last line is one JSON object: for each ``<suite>/<agent>``,
 ``{"batched": episodes/s, "single": episodes/s, "speedup": x, "identical": bool}``, and
 ``"protocol": {"<suite>/<agent>/batch<N>": {"episodes": n, "wall_s": s}}``.
+``--suite gridworld`` (repeatable) measures only that suite's cases (the house ones take
+minutes).
 """
 
 from __future__ import annotations
@@ -50,14 +52,22 @@ def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("--batch", type=int, default=64, help="episodes in lockstep (default: 64)")
     parser.add_argument("--json", action="store_true", help="end with one JSON line")
+    suites = sorted({case[0] for case in CASES})
+    parser.add_argument("--suite", action="append", choices=suites,
+                        help=f"measure only this suite's cases (repeatable; default: all of {', '.join(suites)})")
     args = parser.parse_args()
+    chosen = set(args.suite or suites)
     figures = {}
     for suite, agent, split in CASES:
+        if suite not in chosen:
+            continue
         figures[f"{suite}/{agent}"] = m = measure(suite, agent, split, args.batch)
         print(f"{suite:13s} {agent:8s} {m['batched']:>8.1f} episodes/s batched, {m['single']:>7.1f} one at a time "
               f"({m['speedup']}x), records identical: {m['identical']}")
     figures["protocol"] = {}
     for suite, agent, batch in PROTOCOL:
+        if suite not in chosen:
+            continue
         start = time.perf_counter()
         results = evaluate(EvalConfig(agent=agent, suite=suite), progress=False, workers=2, batch=batch)
         wall = round(time.perf_counter() - start, 1)

@@ -27,9 +27,8 @@ import numpy as np  # noqa: E402
 
 from bench_render import measure_live_fps, measure_naive_fps  # noqa: E402
 from objsearch.sim.cache import HouseCache  # noqa: E402
+from objsearch.sim.camera import AGENT_CAMERA, RenderSettings  # noqa: E402
 from objsearch.sim.env import HouseEnv  # noqa: E402
-from objsearch.sim.goals import GOAL_CAMERA  # noqa: E402
-from objsearch.sim.renderer import RenderSettings  # noqa: E402
 from objsearch.sim.vector import HouseVectorEnv  # noqa: E402
 from objsearch.sim.world import HouseRef, World  # noqa: E402
 
@@ -77,7 +76,7 @@ def main() -> None:
         out[f"naive_fps_{size}"] = round(measure_naive_fps(world.model, settings, poses[:64]), 1)
     with tempfile.TemporaryDirectory() as cache_dir:
         start = time.perf_counter()
-        HouseCache.open(world, GOAL_CAMERA, cache_dir, progress=False)
+        HouseCache.open(world, AGENT_CAMERA, cache_dir, progress=False)
         out["cache_build_s_per_house"] = round(time.perf_counter() - start, 2)
         out["cached_steps_per_s"], out["cached_steps_per_s_cpu"] = map(round, cached_steps_per_s(ref, cache_dir))
         out["cached_vector_steps_per_s"], out["cached_vector_steps_per_s_cpu"] = map(

@@ -22,6 +22,7 @@ import torch
 from objsearch.perception.inference import Predictor
 from objsearch.perception.model import ModelConfig, SegDepthNet, count_parameters
 from objsearch.perception.train import init_weights
+from objsearch.sim.camera import RenderSettings
 
 
 def frames_per_second(predictor: Predictor, rgb: np.ndarray, seconds: float) -> float:
@@ -45,8 +46,7 @@ def main() -> None:
     torch.set_num_threads(args.threads)
     model = SegDepthNet(ModelConfig())
     init_weights(model, torch.Generator().manual_seed(0))
-    settings = {"width": args.size, "height": args.size, "znear": 0.05, "zfar": 30.0}
-    predictor = Predictor(model, settings, key="bench", device="cpu")
+    predictor = Predictor(model, RenderSettings(width=args.size, height=args.size), key="bench", device="cpu")
     rng = np.random.default_rng(0)
     results = {}
     for batch in (int(b) for b in args.batches.split(",")):

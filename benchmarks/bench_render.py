@@ -29,7 +29,8 @@ from objsearch.house.generate import generate_house
 from objsearch.house.mjcf import geom_labels
 from objsearch.house.occupancy import occupancy_grid
 from objsearch.house.spec import HouseSpec
-from objsearch.sim.renderer import HouseRenderer, RenderSettings
+from objsearch.sim.camera import RenderSettings
+from objsearch.sim.renderer import HouseRenderer
 
 
 def random_free_poses(spec: HouseSpec, n: int, rng: np.random.Generator) -> np.ndarray:

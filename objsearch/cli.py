@@ -20,13 +20,16 @@ COMMANDS = [
     "objsearch.eval.suites.cli",
     "objsearch.leaderboard.cli",
     "objsearch.house.cli",
-    "objsearch.sim.cli",
+    "objsearch.perception.cache_cli",
     "objsearch.perception.cli",
     "objsearch.train",
+    "objsearch.data_cli",
+    "objsearch.plot_cli",
 ]
 
 
 def build_parser() -> argparse.ArgumentParser:
+    """The ``objsearch`` parser, with a subcommand from every module in ``COMMANDS``."""
     from objsearch import __version__
 
     parser = argparse.ArgumentParser(

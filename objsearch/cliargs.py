@@ -6,6 +6,7 @@ import argparse
 
 
 def non_negative_int(text: str) -> int:
+    """argparse type: an integer >= 0."""
     try:
         value = int(text)
     except ValueError:
@@ -16,6 +17,7 @@ def non_negative_int(text: str) -> int:
 
 
 def positive_int(text: str) -> int:
+    """argparse type: an integer >= 1."""
     value = non_negative_int(text)
     if value < 1:
         raise argparse.ArgumentTypeError(f"expected a positive integer, got {text!r}")
@@ -23,6 +25,7 @@ def positive_int(text: str) -> int:
 
 
 def seconds(text: str) -> float:
+    """argparse type: a number of seconds >= 0, as a float."""
     try:
         value = float(text)
     except ValueError:
@@ -33,6 +36,7 @@ def seconds(text: str) -> float:
 
 
 def seed_list(text: str) -> tuple[int, ...]:
+    """argparse type: comma-separated integer seeds (at least one), e.g. ``1,5,13``."""
     try:
         seeds = tuple(int(s) for s in text.split(",") if s.strip())
     except ValueError:

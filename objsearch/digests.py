@@ -24,6 +24,7 @@ SUMS = "SHA256SUMS"
 
 
 def sha256_file(path: str | os.PathLike) -> str:
+    """sha256 of the file at ``path``, as hex (read in 1 MiB blocks)."""
     h = hashlib.sha256()
     with open(path, "rb") as f:
         for block in iter(lambda: f.read(1 << 20), b""):

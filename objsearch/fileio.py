@@ -70,13 +70,16 @@ def atomic_directory(path: str | os.PathLike):
                 os.replace(tmp, path)  # fails if a (non-empty) folder is there
                 break
             except OSError as err:
-                if err.errno not in (errno.ENOTEMPTY, errno.EEXIST):
+                if err.errno not in (errno.ENOTEMPTY, errno.EEXIST, errno.ENOTDIR):
                     raise
             try:
-                os.replace(path, old)  # move it aside, then try again
+                os.replace(path, old)  # move it aside (a folder or a file), then try again
             except FileNotFoundError:
                 continue
-            shutil.rmtree(old)
+            if old.is_dir() and not old.is_symlink():
+                shutil.rmtree(old)
+            else:
+                old.unlink()
     except BaseException:
         shutil.rmtree(tmp, ignore_errors=True)
         raise

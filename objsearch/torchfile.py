@@ -100,7 +100,7 @@ def resume(path: str | os.PathLike, config, restore, budget: str | None = None, 
     path = Path(path)
     state = load(path, expected)
     with fitting(path, expected):
-        saved = type(config).from_json(state["config"])
+        saved = type(config).from_json(state["config"], f"{path}")
         if budget is not None:
             saved = dataclasses.replace(saved, **{budget: getattr(config, budget)})
         if saved != config:

@@ -23,6 +23,7 @@ from objsearch.errors import UserError
 
 
 def add_parser(subparsers) -> None:
+    """Add ``objsearch train`` to ``subparsers``."""
     parser = subparsers.add_parser("train", help="train an agent on a suite (resumable)", description=__doc__,
                                    formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("--agent", required=True, help="registered agent name or package.module:Class")
@@ -39,6 +40,10 @@ def add_parser(subparsers) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
+    """``objsearch train``: train (or resume) the agent's run in ``--out`` with its class's ``train``.
+
+    Returns 0, or 130 if interrupted; ``UserError`` if the agent cannot be trained.
+    """
     from objsearch.eval.registry import resolve_agent
 
     cls = resolve_agent(args.agent)

@@ -19,7 +19,7 @@ import numpy as np
 
 from objsearch import digests, torchfile
 from objsearch.errors import UserError
-from objsearch.sim.goals import GOAL_CAMERA
+from objsearch.sim.camera import AGENT_CAMERA, AGENT_CAMERA_NAME, check_camera
 from objsearch_agents.house.config import HouseAgentConfig
 from objsearch_agents.house.policy import HousePolicy
 from objsearch_agents.rows import RowRandom
@@ -78,15 +78,16 @@ class HouseAgent:
                             "pass one written by objsearch train --suite house-...")
         files = [path]
         with torchfile.fitting(path, "a house agent's policy.pt written by objsearch train"):
-            saved = HouseAgentConfig.from_json(state["config"])
+            saved = HouseAgentConfig.from_json(state["config"], f"checkpoint {path}")
             if saved.name != self.config.name:
                 raise UserError(f"checkpoint {path} was trained as {saved.name}, not {self.config.name}; pick --agent {saved.name}")
             if saved.suite != self.suite:
                 raise UserError(f"checkpoint {path} was trained on suite {saved.suite}, not {self.suite}; "
                                 f"evaluate it with --suite {saved.suite} or pass a checkpoint trained on {self.suite}")
-            camera = state.get("camera")
-            if camera != GOAL_CAMERA.to_dict():
-                raise UserError(f"checkpoint {path} was trained with camera {camera}; the house suites' camera is {GOAL_CAMERA.to_dict()}")
+            check_camera(state.get("camera"), AGENT_CAMERA, source=f"house policy checkpoint {path}",
+                         expected_name=AGENT_CAMERA_NAME,
+                         fix=f"retrain it (objsearch train --agent {saved.name} --suite {saved.suite}) or pass a checkpoint "
+                             "trained with that camera")
             self.policy = HousePolicy(saved)
             if self.policy.ac is not None:
                 self.policy.ac.load_state_dict(state["ac"])

@@ -4,17 +4,21 @@ deviations of ``docs/house_agents.md``. Written as ``config.json`` beside every 
 
 from __future__ import annotations
 
-import dataclasses
-from dataclasses import dataclass, fields
+from dataclasses import dataclass
 
-from objsearch.configs import require_at_least, typed_field
+from objsearch.configs import JsonConfig, require_at_least
 from objsearch.errors import UserError
 
 METHODS = ("a3c", "dqn", "hdqn", "hrl_grg")
 
 
 @dataclass(frozen=True)
-class HouseAgentConfig:
+class HouseAgentConfig(JsonConfig):
+    """Serialised, read and overridden (``--set``) through ``objsearch.configs.JsonConfig``."""
+
+    DESCRIPTION = "a house agent config"
+    LEGACY_KEYS = {}  # no field has been renamed or removed (files from before ``explorer`` lack it: its default)
+
     method: str = "hrl_grg"
     """``a3c`` (actor-critic on the target), ``dqn``, ``hdqn`` (DQN over sub-goals, A3C low level) or ``hrl_grg``."""
     relation: bool = True
@@ -82,7 +86,8 @@ class HouseAgentConfig:
     e.g. the suite's trained ``a3c``, which learned to move through the training houses with
     the target out of view (empty: the low level on depth alone, as the authors' code)."""
     train_low: bool = False
-    """Hierarchical methods: keep training the low level on the intrinsic reward (False: frozen pretrained)."""
+    """Hierarchical methods: keep training the low level (A2C, ``ac_lr``) on the intrinsic reward, 1 on
+    reaching the option's sub-goal, as the authors' code does (False: the pretrained approach policy, frozen)."""
     plan_every: int = 10
     """hrl_grg: re-plan the GRG every this many batched steps (the reference: once per episode)."""
     checkpoint_every: int = 500_000
@@ -95,8 +100,9 @@ class HouseAgentConfig:
             raise UserError(f"method must be one of {METHODS}, not {self.method!r}")
         if self.observation not in ("gt", "predicted"):
             raise UserError(f"observation must be gt or predicted, not {self.observation!r}")
-        if self.explorer and not self.hierarchical:
-            raise UserError(f"explorer applies to the hierarchical methods (hdqn, hrl_grg), not {self.method}; drop it")
+        for flag in ("explorer", "train_low"):
+            if getattr(self, flag) and not self.hierarchical:
+                raise UserError(f"{flag} applies to the hierarchical methods (hdqn, hrl_grg), not {self.method}; drop it")
         require_at_least(self, ("num_envs", "max_steps", "option_steps", "batch_size", "replay_size", "update_every",
                                 "target_update", "rollout", "eps_anneal_episodes", "curriculum_episodes",
                                 "plan_every", "checkpoint_every", "log_every"), 1)
@@ -111,18 +117,3 @@ class HouseAgentConfig:
         if self.method != "hrl_grg":
             return self.method
         return "hrl_grg" + "".join(f"_no_{n}" for n in ("relation", "termination", "high_level") if not getattr(self, n))
-
-    def to_json(self) -> dict:
-        return dataclasses.asdict(self)
-
-    @classmethod
-    def from_json(cls, data: dict) -> "HouseAgentConfig":
-        known = {f.name for f in fields(cls)}
-        unknown = sorted(set(data) - known)
-        if unknown:
-            raise UserError(f"house agent config has unknown fields {', '.join(unknown)}; was it written by a newer objsearch?")
-        return cls(**data)
-
-    def with_overrides(self, overrides: dict[str, str]) -> "HouseAgentConfig":
-        """A copy with fields set from ``KEY=VALUE`` strings (``--set``), typed like the defaults."""
-        return dataclasses.replace(self, **{key: typed_field(self, key, text) for key, text in overrides.items()})

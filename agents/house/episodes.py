@@ -25,6 +25,7 @@ import numpy as np
 
 from objsearch.house.categories import CATEGORY_IDS, FIRST_OBJECT_ID
 from objsearch.sim.cache import HouseCache, PredictedCache
+from objsearch.sim.camera import AGENT_CAMERA, check_predictor_camera
 from objsearch.sim.env import START_STEPS
 from objsearch.sim.goals import DEFAULT_RULE, GOAL_CAMERA, goal_poses
 from objsearch.sim.world import HouseRef, World
@@ -53,6 +54,9 @@ class TrainingHouses:
         cache_dir: observation caches (built if missing).
         predictor: if given, the agent observes its predictions (``PredictedCache``);
             goals are always judged on the ground truth.
+
+    The agent's tables come from ``AGENT_CAMERA`` frames (a predictor must be trained on
+    them), goal poses from ``GOAL_CAMERA`` frames (the rule the suites use).
     """
 
     def __init__(self, refs: list[HouseRef], targets: list[str], cache_dir=None, predictor=None, progress: bool = True):
@@ -61,17 +65,20 @@ class TrainingHouses:
         per_house, self.pairs = [], []
         offset = 0
         target_ids = {CATEGORY_IDS[t] for t in targets}
+        if predictor is not None:
+            check_predictor_camera(predictor, AGENT_CAMERA)
         for h, world in enumerate(self.worlds):
-            gt = HouseCache.open(world, GOAL_CAMERA, cache_dir, progress)
+            gt = HouseCache.open(world, AGENT_CAMERA, cache_dir, progress)
+            goal = gt if GOAL_CAMERA == AGENT_CAMERA else HouseCache.open(world, GOAL_CAMERA, cache_dir, progress)
             gt_tables = house_tables(gt, world.graph.next_pose)
             if predictor is None:
                 tables = gt_tables
             else:
-                tables = house_tables(PredictedCache.open(world, GOAL_CAMERA, predictor, cache_dir, progress), world.graph.next_pose)
+                tables = house_tables(PredictedCache.open(world, AGENT_CAMERA, predictor, cache_dir, progress), world.graph.next_pose)
             per_house.append(tables)
             seen = gt_tables.pixels >= VISIBLE_PIXELS  # approach starts: the category is really in view
             for cid in sorted({CATEGORY_IDS[o.category] for o in world.spec.objects}):
-                goals = goal_poses(gt.semantic, gt.depth, cid, DEFAULT_RULE)
+                goals = goal_poses(goal.semantic, goal.depth, cid, DEFAULT_RULE)
                 if not len(goals):
                     continue
                 dist = world.graph.shortest_steps(goals).astype(np.int64)

@@ -1,27 +1,22 @@
-"""Drawing a learned house GRG as the paper's Figure 5: a few object categories as nodes
-and the edges with weight >= 0.5 between them ("does the sink lead to the mirror?").
+"""The house GRG as the paper's Figure 5: a few object categories as nodes and the edges
+with weight >= 0.5 between them ("does the sink lead to the mirror?").
 
-    python -m objsearch_agents.house.grg_figure agents/checkpoints/house-single/hrl_grg --out grg.png
+    objsearch plot grg agents/checkpoints/house-single/hrl_grg --out grg.png
 
-Nodes: the categories on the strongest edges (at most ``max_nodes``), on a circle; an arrow
+Nodes: the categories on the strongest edges (at most ``limit``), on a circle; an arrow
 i -> j for each edge of weight >= ``threshold``, darker and thicker for larger weights. The
-edge list is printed too.
+command prints the edge list too. Loading and writing are ``objsearch_agents.grg_plot``'s,
+shared with the grid-world figure.
 """
 
 from __future__ import annotations
 
-import argparse
 import math
-import sys
-from pathlib import Path
 
 import cv2
 import numpy as np
 
-from objsearch.errors import UserError
-from objsearch.fileio import atomic_write
 from objsearch.house.categories import CATEGORY_NAMES, FIRST_OBJECT_ID
-from objsearch_agents.grg import GoalsRelationalGraph
 from objsearch_agents.house.tables import NUM_OBJECTS
 
 
@@ -75,28 +70,5 @@ def draw(edges: list[tuple[str, str, float]], size: int = 720) -> np.ndarray:
     return img
 
 
-def main(argv: list[str] | None = None) -> int:
-    parser = argparse.ArgumentParser(prog="python -m objsearch_agents.house.grg_figure", description=__doc__.splitlines()[0])
-    parser.add_argument("run", help="a checkpoint or run directory (with grg.npz) or a grg.npz file")
-    parser.add_argument("--out", default="grg.png", help="PNG to write (default: grg.png)")
-    parser.add_argument("--edges", type=int, default=24, help="at most this many edges (default: 24)")
-    args = parser.parse_args(argv)
-    path = Path(args.run)
-    path = path / "grg.npz" if path.is_dir() else path
-    try:
-        graph = GoalsRelationalGraph.load(path)
-    except UserError as err:
-        print(f"{parser.prog}: error: {err}", file=sys.stderr)
-        return 2
-    edges = strongest_edges(graph.edge_weights(), limit=args.edges)
-    ok, png = cv2.imencode(".png", draw(edges))
-    with atomic_write(args.out, "wb") as f:
-        f.write(png.tobytes())
-    for a, b, w in edges:
-        print(f"{a:>16} -> {b:<16} {w:.2f}")
-    print(f"wrote {args.out}")
-    return 0
-
-
-if __name__ == "__main__":
-    sys.exit(main())
+if __name__ == "__main__":  # the old entry point, gone: say where it went
+    raise SystemExit("python -m objsearch_agents.house.grg_figure is now: objsearch plot grg RUN [--out FILE]")

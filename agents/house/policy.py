@@ -206,9 +206,11 @@ class HousePolicy:
 
     def advance(self, tables: ObservationTables, hist: np.ndarray, episode_over: np.ndarray, count: bool) -> np.ndarray:
         """Update the options after an env step (``hist``: the histories it led to). Ends
-        options, counts them into the GRG if ``count``; returns bool (N,): options ended."""
+        options, counts them into the GRG if ``count``; returns bool (N,): options ended.
+        ``self.reached`` is then bool (N,): options whose (non-target) sub-goal was reached."""
         if not self.config.hierarchical:
-            return np.zeros(len(hist), bool)
+            self.reached = np.zeros(len(hist), bool)
+            return self.reached
         active = self.subgoal >= 0
         self.option_steps[active] += 1
         now = hist[:, -1]
@@ -218,7 +220,7 @@ class HousePolicy:
         sg = np.maximum(self.subgoal, 0)
         cats = node_category(sg)
         real = active & (sg < RANDOM) & (cats != self.target)
-        reached = real & tables.reached(now, cats)
+        reached = self.reached = real & tables.reached(now, cats)
         ended = active & (reached | (self.option_steps >= self.config.option_steps) | episode_over)
         if self.grg is not None and self.config.termination:
             vis4 = np.concatenate([tables.visible(hist)[:, FIRST_OBJECT_ID:], np.zeros((len(hist), 1), bool)], axis=1)

@@ -13,8 +13,12 @@ with the deviations written in ``docs/house_agents.md``:
   ids (the observation is rebuilt from the tables), batch 64, RMSProp, loss 0.5 * MSE, one
   transition per primitive step with the extrinsic reward; exploration 1 -> 0.1 over the
   first episodes (fixed per episode at its start).
-* Hierarchical low levels stay the pretrained approach policy (frozen); with ``explorer``,
-  the back-up node's options run another frozen actor-critic (the suite's A3C).
+* Hierarchical low levels start from the pretrained approach policy and stay frozen, or
+  with ``train_low`` keep training as the authors' code does: the same A2C on the
+  intrinsic reward (1 when the option's sub-goal is reached; the target's goal poses when
+  the sub-goal is the target), returns cut at option ends and bootstrapped with V(s') when
+  an option ends unreached; the back-up node's transitions are not used. With
+  ``explorer``, the back-up node's options run another frozen actor-critic (the suite's A3C).
 * Curriculum on the start pools (``episodes``); an episode is at most 1000 steps.
 
 Files in the run directory: ``config.json``, ``command.txt``, ``policy.pt`` (+ ``grg.npz``)
@@ -36,12 +40,13 @@ from objsearch import torchfile
 from objsearch.errors import UserError
 from objsearch.fileio import atomic_write, write_csv, write_json
 from objsearch.interrupt import stop_on_interrupt
-from objsearch.sim.goals import GOAL_CAMERA
+from objsearch.sim.camera import AGENT_CAMERA
 from objsearch_agents.a2c import ActorCriticLearner
 from objsearch_agents.dqn_learner import Learner, td_loss
 from objsearch_agents.house.config import HouseAgentConfig
 from objsearch_agents.house.episodes import EpisodeBatch, TrainingHouses, object_node
-from objsearch_agents.house.policy import HousePolicy, _t, candidate_inputs, candidates, category_input, low_input
+from objsearch_agents.house.policy import (RANDOM, HousePolicy, _t, candidate_inputs, candidates, category_input,
+                                           low_input, node_category)
 from objsearch_agents.house.tables import HISTORY
 from objsearch_agents.replay import ReplayBuffer
 
@@ -95,7 +100,7 @@ def load_checkpoint_file(path: Path) -> dict:
 
 def save_policy(policy: HousePolicy, out: Path) -> None:
     """The evaluable policy: ``policy.pt`` (config and network weights) and ``grg.npz``."""
-    state = {"kind": "objsearch-house-policy", "config": policy.config.to_json(), "camera": GOAL_CAMERA.to_dict(),
+    state = {"kind": "objsearch-house-policy", "config": policy.config.to_json(), "camera": AGENT_CAMERA.to_json(),
              "ac": policy.ac.state_dict() if policy.ac is not None else None,
              "q": policy.q.state_dict() if policy.q is not None else None,
              "explore": policy.explore.state_dict() if policy.explore is not None else None}
@@ -114,8 +119,8 @@ class HouseTrainRun:
         self.rng = np.random.default_rng([c.seed, 11])
         self.policy = HousePolicy(c)
         self.batch = EpisodeBatch(houses, c.num_envs, c.max_steps)
-        self.ac = None
-        if c.method == "a3c":
+        self.ac = None  # the actor-critic's learner: A3C, or a hierarchical low level with train_low
+        if c.method == "a3c" or (c.hierarchical and c.train_low):
             self.ac = ActorCriticLearner(self.policy.ac, c.ac_lr, c.rmsprop_alpha, c.rmsprop_eps, c.max_grad_norm,
                                          c.entropy, c.gamma)
         self.q = self.replay = None
@@ -169,7 +174,11 @@ class HouseTrainRun:
             self.replay.add(hist=hist, target=b.target.copy(), action=chosen if c.hierarchical else actions,
                             reward=reward, next_hist=b.hist.copy(), done=reward)
         if c.hierarchical:
-            p.advance(tables, b.hist, over, count=True)
+            ended = p.advance(tables, b.hist, over, count=True)
+            if self.ac is not None:
+                self._record_low(inputs, actions, chosen, success, ended)
+        elif self.ac is not None:
+            self.rollout.append((inputs, actions, reward, over.astype(np.float32), np.ones(len(actions), bool)))
         done = np.flatnonzero(over)
         if len(done):
             w = self.window
@@ -178,24 +187,39 @@ class HouseTrainRun:
             w["steps"] += int(b.steps[done].sum())
             self.counters["finished"] += len(done)
             self._start_episodes(done)
-        if self.ac is not None:
-            self.rollout.append((inputs, actions, reward, over.astype(np.float32)))
-            if len(self.rollout) == c.rollout:
-                self._learn_ac()
+        if self.ac is not None and len(self.rollout) == c.rollout:
+            self._learn_ac()
         self._learn_q(len(actions))
         k = self.counters
         k["batched_steps"] += 1
         if p.grg is not None and k["batched_steps"] % c.plan_every == 0:
             p.refresh_plans()
 
+    @torch.no_grad()
+    def _record_low(self, inputs, actions, chosen, success, ended) -> None:
+        """A low-level step of every env toward the sub-goal it had (``chosen``): reward 1
+        when reached (the target: at a goal pose), the option's end cuts the return, and an
+        option that ended unreached is bootstrapped with V(s', sub-goal)."""
+        p = self.policy
+        reward = (p.reached | (success & (chosen == object_node(p.target)))).astype(np.float32)
+        cut = np.flatnonzero(ended & (reward == 0) & (chosen < RANDOM))
+        if len(cut):
+            _, value = p.ac(*map(_t, low_input(self.tables, self.batch.hist[cut], node_category(chosen[cut]))))
+            reward[cut] += np.float32(self.config.gamma) * value.numpy()
+        self.rollout.append((inputs, actions, reward, ended.astype(np.float32), chosen < RANDOM))
+
     def _learn_ac(self) -> None:
-        masks, depths, actions, rewards, dones = zip(*[(i[0], i[1], a, r, d) for i, a, r, d in self.rollout])
+        """One A2C update on the rollout's transitions (``valid`` ones: the back-up node's are not used)."""
+        masks, depths, actions, rewards, dones, valid = zip(*[(i[0], i[1], a, r, d, v) for i, a, r, d, v in self.rollout])
         self.rollout = []
         with torch.no_grad():
-            _, bootstrap = self.policy.ac(*map(_t, low_input(self.tables, self.batch.hist, self.batch.target)))
+            _, bootstrap = self.policy.ac(*map(_t, low_input(self.tables, self.batch.hist, self.policy.acting_category())))
         returns = self.ac.returns(np.stack(rewards), np.stack(dones), bootstrap.numpy())
-        flat = lambda x: np.concatenate(x)
-        loss = self.ac.update((_t(flat(masks)), _t(flat(depths))), flat(actions), returns.reshape(-1))
+        keep = np.concatenate(valid)
+        if not keep.any():
+            return
+        flat = lambda x: np.concatenate(x)[keep]
+        loss = self.ac.update((_t(flat(masks)), _t(flat(depths))), flat(actions), returns.reshape(-1)[keep])
         self.window["loss_ac"][0] += loss
         self.window["loss_ac"][1] += 1
 
@@ -245,7 +269,7 @@ class HouseTrainRun:
             "policy": self.policy.state_dict(),
             "grg": self.policy.grg.counts.copy() if self.policy.grg is not None else None,
             "replay": self.replay.state_dict() if self.replay is not None else None,
-            "rollout": [list(i) + [a, r, d] for i, a, r, d in self.rollout],
+            "rollout": [list(i) + [a, r, d, v] for i, a, r, d, v in self.rollout],
         }
         return {
             "kind": "objsearch-house-train-state", "config": self.config.to_json(), "counters": dict(self.counters),
@@ -275,7 +299,7 @@ class HouseTrainRun:
         if self.policy.grg is not None:
             self.policy.grg.counts[...] = a["grg"]
         self.policy.load_state_dict(a["policy"])
-        self.rollout = [((r[0], r[1]), r[2], r[3], r[4]) for r in a["rollout"]]
+        self.rollout = [((r[0], r[1]), r[2], r[3], r[4], r[5]) for r in a["rollout"]]
 
     def save(self) -> None:
         self.out.mkdir(parents=True, exist_ok=True)

@@ -66,9 +66,15 @@ class AgentTask:
 
 @runtime_checkable
 class Agent(Protocol):
-    def reset(self, task: AgentTask) -> None: ...
+    """The protocol an evaluated agent follows: ``reset(task)`` at each episode's start, then ``act``."""
 
-    def act(self, observation: Any) -> Any: ...
+    def reset(self, task: AgentTask) -> None:
+        """Begin a new episode of ``task``; nothing of the previous episode may carry over."""
+        ...
+
+    def act(self, observation: Any) -> Any:
+        """The action for ``observation`` (one step)."""
+        ...
 
 
 def is_batched(agent) -> bool:

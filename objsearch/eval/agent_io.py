@@ -1,19 +1,22 @@
 """The "Actions and observations" section of ``docs/add_your_agent.md``, rendered from the
 suites' envs (their spaces, action names and docstrings) so that it cannot drift from them.
 
-    python -m objsearch.eval.agent_io           # rewrite the section of the doc
-    python -m objsearch.eval.agent_io --check   # exit 1 if the doc's section is stale
+    objsearch data rebuild agent-io-doc           # rewrite the section of the doc
+    objsearch data rebuild agent-io-doc --check   # exit 1 if the doc's section is stale
+
+(``objsearch/data_cli.py`` holds the subcommand; ``rebuild_doc`` here does the work. The doc
+is the repository's ``docs/``, so it runs from a checkout.)
 """
 
 from __future__ import annotations
 
-import argparse
 import inspect
 import re
 import sys
 from pathlib import Path
 
-BEGIN = "<!-- generated: python -m objsearch.eval.agent_io -->"
+COMMAND = "objsearch data rebuild agent-io-doc"
+BEGIN = f"<!-- generated: {COMMAND} -->"
 END = "<!-- end generated -->"
 DOC = Path(__file__).resolve().parents[2] / "docs" / "add_your_agent.md"
 
@@ -84,18 +87,18 @@ def doc_section(text: str) -> str:
     return text.split(BEGIN, 1)[1].split(END, 1)[0].strip("\n")
 
 
-def main(argv: list[str] | None = None) -> int:
-    parser = argparse.ArgumentParser(prog="python -m objsearch.eval.agent_io", description=__doc__.splitlines()[0])
-    parser.add_argument("--check", action="store_true", help="exit 1 if the doc's section differs from the envs'")
-    args = parser.parse_args(argv)
+def rebuild_doc(check: bool = False) -> int:
+    """Rewrite the generated section of ``DOC`` from the envs; with ``check``, only compare:
+    1 (and a message on stderr) if it is stale, else 0."""
     from objsearch.fileio import atomic_write
 
     text = DOC.read_text()
     fresh = render()
-    if args.check:
+    if check:
         if doc_section(text) != fresh:
-            print(f"{DOC}: the generated section is stale; run python -m objsearch.eval.agent_io", file=sys.stderr)
+            print(f"{DOC}: the generated section is stale; run {COMMAND}", file=sys.stderr)
             return 1
+        print(f"{DOC}: the generated section is current", file=sys.stderr)
         return 0
     before, rest = text.split(BEGIN, 1)
     after = rest.split(END, 1)[1]
@@ -105,5 +108,5 @@ def main(argv: list[str] | None = None) -> int:
     return 0
 
 
-if __name__ == "__main__":
-    sys.exit(main())
+if __name__ == "__main__":  # the old entry point, gone: say where it went
+    raise SystemExit(f"python -m objsearch.eval.agent_io is now: {COMMAND} [--check]")

@@ -18,8 +18,9 @@ SUITE_FLAGS = {"maps": "maps", "tasks": "tasks", "max_steps": "max_steps", "rend
 
 
 def configure(parser: argparse.ArgumentParser) -> argparse.ArgumentParser:
+    """Add the evaluation flags to ``parser`` (``objsearch eval`` and ``objsearch-eval``) and return it."""
     from objsearch.cluster import EXECUTORS
-    from objsearch.eval.runner import PAPER_SEEDS
+    from objsearch.eval.config import PAPER_SEEDS
     from objsearch.eval.suites import DEFAULT_SUITE, SUITES
 
     parser.add_argument("--agent", default=DEFAULT_AGENT,
@@ -70,14 +71,24 @@ def configure(parser: argparse.ArgumentParser) -> argparse.ArgumentParser:
 
 
 def add_parser(subparsers) -> None:
+    """Add ``objsearch eval`` to ``subparsers``."""
     configure(subparsers.add_parser("eval", help="evaluate an agent on a suite", description=__doc__))
 
 
 def build_eval_parser(prog: str = "objsearch-eval") -> argparse.ArgumentParser:
-    return configure(argparse.ArgumentParser(prog=prog, description=__doc__))
+    """The parser of the ``objsearch-eval`` command (named ``prog``)."""
+    from objsearch import __version__
+
+    parser = configure(argparse.ArgumentParser(prog=prog, description=__doc__))
+    parser.add_argument("--version", action="version", version=f"{prog} {__version__}")
+    return parser
 
 
 def run(args: argparse.Namespace) -> int:
+    """Run an evaluation from parsed flags (or ``--list-agents``) and print the results table.
+
+    Returns 1 when every episode failed with an agent error, else 0.
+    """
     from objsearch.eval.registry import registered_agents
 
     if args.list_agents:
@@ -86,7 +97,8 @@ def run(args: argparse.Namespace) -> int:
         return 0
 
     from objsearch.eval.results import format_table
-    from objsearch.eval.runner import EvalConfig, evaluate
+    from objsearch.eval.config import EvalConfig
+    from objsearch.eval.runner import evaluate
 
     from objsearch.cluster import check_address, one_math_thread
     from objsearch.eval.suites import DEFAULT_SUITE

@@ -110,20 +110,26 @@ def start_episode(env, suite_name: str, split: str, episode: Episode, seed: int,
     obs, info = env.reset(seed=seed, options={"task": episode.task})
     if trajectory is not None:
         trajectory.append((obs, info))
+    return obs, agent_task(suite_name, split, episode, seed, info, env.observation_space, env.action_space)
+
+
+def agent_task(suite_name: str, split: str, episode: Episode, seed: int, info: dict, observation_space,
+               action_space) -> AgentTask:
+    """The agent's ``AgentTask`` for an episode its env has just been reset to (``info``:
+    the reset's info, checked against the suite's ``min_steps``)."""
     if info.get("min_steps", episode.min_steps) != episode.min_steps:
         raise RuntimeError(f"env and suite disagree on min_steps of {split}/{episode.episode_id}")
-    task = AgentTask(
+    return AgentTask(
         suite=suite_name,
         split=split,
         episode_id=episode.episode_id,
         goal=episode.goal,
         goal_name=episode.goal_name,
-        observation_space=env.observation_space,
-        action_space=env.action_space,
+        observation_space=observation_space,
+        action_space=action_space,
         rng=episode_rng(seed, split, episode.episode_id),
         privileged=episode.privileged,
     )
-    return obs, task
 
 
 def episode_record(split: str, seed: int, episode: Episode, success: bool, steps: int, error: str | None,

@@ -29,10 +29,12 @@ def episode_spl(success: bool, min_steps: int, steps: int) -> float:
 
 
 def success_rate(records: Sequence[dict]) -> float:
+    """Fraction of ``records`` that succeeded; NaN for none."""
     return float(np.mean([r["success"] for r in records])) if records else float("nan")
 
 
 def spl(records: Sequence[dict]) -> float:
+    """Mean ``episode_spl`` over ``records``; NaN for none."""
     return float(np.mean([episode_spl(r["success"], r["min_steps"], r["steps"]) for r in records])) if records else float("nan")
 
 

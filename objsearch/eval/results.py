@@ -44,6 +44,10 @@ def git_commit() -> str | None:
 
 
 def build_results(config, suite, records: list[dict]) -> dict:
+    """The results dict of a run: agent, suite, versions, git commit, seeds, config, per-split summaries, records.
+
+    Adds each record's ``spl`` (rounded to 4 places) in place.
+    """
     from objsearch import __version__
 
     for r in records:

@@ -54,6 +54,7 @@ class GridTables:
 
     @classmethod
     def build(cls, maps: Sequence[GridMap]) -> "GridTables":
+        """The tables of ``maps`` (BFS distances, observation windows); ValueError if maps differ in shape or goals."""
         if not maps:
             raise ValueError("GridTables needs at least one map")
         height, width = maps[0].shape
@@ -120,6 +121,7 @@ class GridTables:
         )
 
     def map_index(self, name: str) -> int:
+        """Index of the map named ``name`` (ValueError if absent)."""
         return self.names.index(name)
 
 
@@ -191,12 +193,23 @@ class BatchedGridWorld:
         env_ids = self._arange if env_ids is None else np.asarray(env_ids, dtype=np.int64)
         if maps is None:
             maps, goals, starts = self.sample_tasks(len(env_ids))
+        self._start(env_ids, maps, goals, starts)
+        return self.observe()
+
+    def start(self, env_ids, maps, goals, starts) -> dict[str, np.ndarray]:
+        """Start the given episodes (map indices, goal ids, flat start cells) in ``env_ids``
+        and return the observations of those envs only (rows in ``env_ids``' order); the
+        other envs are left as they are."""
+        env_ids = np.asarray(env_ids, dtype=np.int64)
+        self._start(env_ids, maps, goals, starts)
+        return self.observe(env_ids)
+
+    def _start(self, env_ids: np.ndarray, maps, goals, starts) -> None:
         self.map_idx[env_ids] = maps
         self.goal[env_ids] = goals
         self.cell[env_ids] = starts
         self.steps[env_ids] = 0
         self.min_steps[env_ids] = self.tables.goal_dist[self.map_idx[env_ids], self.goal[env_ids], self.cell[env_ids]]
-        return self.observe()
 
     def step(self, actions) -> tuple[dict[str, np.ndarray], np.ndarray, np.ndarray, np.ndarray, dict[str, np.ndarray]]:
         """Move every env by one action.
@@ -217,15 +230,39 @@ class BatchedGridWorld:
             self.reset(np.flatnonzero(done))
         return self.observe(), success.astype(np.float32), success, truncated, info
 
+    def step_envs(self, env_ids, actions) -> tuple[dict[str, np.ndarray], np.ndarray, np.ndarray, np.ndarray, dict[str, np.ndarray]]:
+        """Move only the envs ``env_ids`` (distinct), each by its action in ``actions``; the
+        others stay as they are (their step counts too). Returns what ``step`` does, with
+        arrays of length ``len(env_ids)`` in ``env_ids``' order. No autoreset: the episodes
+        that ended wait for ``start`` or ``reset``."""
+        ids = np.asarray(env_ids, dtype=np.int64)
+        actions = np.asarray(actions, dtype=np.int64)
+        t = self.tables
+        maps = self.map_idx[ids]
+        cell = t.next_cell[maps, self.cell[ids], actions].astype(np.int64)
+        steps = self.steps[ids] + 1
+        self.cell[ids] = cell
+        self.steps[ids] = steps
+        success = cell == t.goal_cells[maps, self.goal[ids]]
+        truncated = ~success & (steps >= self.max_steps)
+        info = {"success": success, "steps": steps, "min_steps": self.min_steps[ids]}
+        return self.observe(ids), success.astype(np.float32), success, truncated, info
+
     # -- observations -----------------------------------------------------------------
-    def observe(self) -> dict[str, np.ndarray]:
+    def observe(self, env_ids=None) -> dict[str, np.ndarray]:
+        """The observations of all envs, or of ``env_ids`` (rows in their order)."""
+        if env_ids is None:
+            map_idx, cell, goal = self.map_idx, self.cell, self.goal
+        else:
+            ids = np.asarray(env_ids, dtype=np.int64)
+            map_idx, cell, goal = self.map_idx[ids], self.cell[ids], self.goal[ids]
         windows = self.tables.windows
         if self.observation == "goal":
-            channels = np.stack([np.zeros_like(self.goal), 1 + self.goal], axis=1)  # (N, 2)
-            image = windows[self.map_idx[:, None], self.cell[:, None], channels]
+            channels = np.stack([np.zeros_like(goal), 1 + goal], axis=1)  # (N, 2)
+            image = windows[map_idx[:, None], cell[:, None], channels]
         else:
-            image = windows[self.map_idx, self.cell]
-        return {"image": image, "goal": self.goal.copy()}
+            image = windows[map_idx, cell]
+        return {"image": image, "goal": goal.copy()}
 
     def positions(self) -> np.ndarray:
         """(N, 2) row, col of every agent."""

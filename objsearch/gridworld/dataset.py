@@ -3,20 +3,20 @@
 100 training maps (``map_0000``..``map_0099``), 20 test maps (``map_0100``..``map_0119``)
 and three test task lists of 100 tasks each (``seen-goals``, ``unseen-goals``,
 ``all-goals``). The files are the benchmark: code reads them, never regenerates them, so a
-change to the generator cannot silently change results. ``python -m
-objsearch.gridworld.dataset OUT_DIR`` rebuilds them from the fixed seeds below (a test checks
-that it still reproduces the shipped files); bump ``DATA_VERSION`` if they ever change.
+change to the generator cannot silently change results. ``objsearch data rebuild gridworld
+[--out DIR]`` rebuilds them from the fixed seeds below (a test checks that it still
+reproduces the shipped files); bump ``DATA_VERSION`` if they ever change.
 """
 
 from __future__ import annotations
 
 import json
-import sys
 from functools import lru_cache
 from pathlib import Path
 
 import numpy as np
 
+from objsearch.fileio import atomic_write
 from objsearch.gridworld.maps import GridMap, generate_map, load_map_dir, save_map
 from objsearch.gridworld.tasks import ALL_GOALS, SEEN_GOALS, UNSEEN_GOALS, GridTask, load_tasks, sample_tasks, save_tasks
 
@@ -30,6 +30,7 @@ SPLIT_GOALS = {"seen-goals": SEEN_GOALS, "unseen-goals": UNSEEN_GOALS, "all-goal
 
 
 def map_name(index: int) -> str:
+    """The file stem of map ``index``: ``map_0007``."""
     return f"map_{index:04d}"
 
 
@@ -42,6 +43,7 @@ def generate_maps(first: int, count: int) -> dict[str, GridMap]:
 
 
 def generate_split_tasks(test_maps: dict[str, GridMap]) -> dict[str, list[GridTask]]:
+    """The three test splits' task lists over ``test_maps``, each from its fixed seed."""
     return {
         split: sample_tasks(test_maps, goals, TASKS_PER_SPLIT, np.random.default_rng([TASK_SEED, k]))
         for k, (split, goals) in enumerate(SPLIT_GOALS.items())
@@ -59,16 +61,19 @@ def build(out_dir: str | Path) -> None:
     for split, tasks in generate_split_tasks(test).items():
         save_tasks(tasks, out_dir / "tasks" / f"{split}.jsonl")
     meta = {"version": DATA_VERSION, "map_seed": MAP_SEED, "task_seed": TASK_SEED}
-    (out_dir / "VERSION.json").write_text(json.dumps(meta, indent=2) + "\n")
+    with atomic_write(out_dir / "VERSION.json") as f:
+        f.write(json.dumps(meta, indent=2) + "\n")
 
 
 @lru_cache(maxsize=None)
 def train_maps() -> dict[str, GridMap]:
+    """The 100 packaged training maps by name (loaded once)."""
     return load_map_dir(DATA_DIR / "train")
 
 
 @lru_cache(maxsize=None)
 def test_maps() -> dict[str, GridMap]:
+    """The 20 packaged test maps by name (loaded once)."""
     return load_map_dir(DATA_DIR / "test")
 
 
@@ -77,7 +82,5 @@ def split_tasks(split: str) -> list[GridTask]:
     return load_tasks(DATA_DIR / "tasks" / f"{split}.jsonl", test_maps())
 
 
-if __name__ == "__main__":
-    if len(sys.argv) != 2:
-        sys.exit("usage: python -m objsearch.gridworld.dataset OUT_DIR")
-    build(sys.argv[1])
+if __name__ == "__main__":  # the old entry point, gone: say where it went
+    raise SystemExit("python -m objsearch.gridworld.dataset is now: objsearch data rebuild gridworld [--out DIR]")

@@ -94,9 +94,11 @@ class GridWorldEnv(gymnasium.Env):
 
     @property
     def tables(self) -> GridTables:
+        """The maps' ``GridTables`` the env steps on."""
         return self._world.tables
 
     def reset(self, *, seed: int | None = None, options: dict[str, Any] | None = None):
+        """Start an episode: ``options["task"]`` (a ``GridTask``) or a random map, goal, start; returns (obs, info)."""
         super().reset(seed=seed)
         self._world.rng = self.np_random
         task = (options or {}).get("task")
@@ -108,6 +110,10 @@ class GridWorldEnv(gymnasium.Env):
         return self._obs(obs), self._info(success=False)
 
     def step(self, action):
+        """Take one action; returns (obs, reward, terminated, truncated, info).
+
+        Raises ValueError for an action outside the action space and RuntimeError after the episode ended.
+        """
         if self._done:
             raise RuntimeError("step() called on a finished episode; call reset() first")
         if not self.action_space.contains(action):
@@ -117,6 +123,10 @@ class GridWorldEnv(gymnasium.Env):
         return self._obs(obs), float(reward[0]), bool(terminated[0]), bool(truncated[0]), self._info(bool(terminated[0]))
 
     def render(self):
+        """The map as an RGB image (16 px a cell) in ``rgb_array`` mode, else None.
+
+        Free cells light grey, obstacles dark grey, goals blue, the episode's goal green, the agent red.
+        """
         if self.render_mode != "rgb_array":
             return None
         t, w = self.tables, self._world
@@ -131,6 +141,7 @@ class GridWorldEnv(gymnasium.Env):
         return np.kron(image, np.ones((16, 16, 1), dtype=np.uint8))
 
     def close(self):
+        """End the current episode (the env holds no other resources)."""
         self._done = True
 
     # -- helpers ----------------------------------------------------------------------

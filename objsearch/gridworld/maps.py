@@ -51,10 +51,12 @@ class GridMap:
 
     @property
     def shape(self) -> tuple[int, int]:
+        """(H, W) of the map."""
         return self.obstacles.shape
 
     @property
     def num_goals(self) -> int:
+        """Number of goals on the map."""
         return len(self.goals)
 
     def distances_to(self, cell: tuple[int, int]) -> np.ndarray:

@@ -40,6 +40,7 @@ class GridTask:
     min_steps: int
 
     def to_json(self) -> dict:
+        """The task as a JSON dict: map, start, goal (not min_steps)."""
         return {"map": self.map, "start": list(self.start), "goal": self.goal}
 
 

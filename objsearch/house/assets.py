@@ -2,7 +2,7 @@
 
 Build (deterministic: the same bytes on every run)::
 
-    python -m objsearch.house.assets            # writes assets/meshes/<category>/v<k>.obj + manifest.json
+    objsearch data rebuild assets [--out DIR]   # writes DIR/meshes/<category>/v<k>.obj + manifest.json
 
 Every category has ``VARIANTS_PER_CATEGORY`` shape variants; variant ``v3`` is reserved for
 *test* houses (``objsearch generate --split test``), so test houses contain instances never
@@ -15,7 +15,6 @@ The library is found at ``$OBJSEARCH_ASSETS`` if set, else at ``assets/`` beside
 
 from __future__ import annotations
 
-import argparse
 import functools
 import json
 import os
@@ -31,6 +30,7 @@ TEST_VARIANTS = ("v3",)
 
 
 def assets_dir() -> Path:
+    """The assets folder: ``$OBJSEARCH_ASSETS``, else the repository's ``assets/``."""
     env = os.environ.get("OBJSEARCH_ASSETS")
     return Path(env) if env else Path(__file__).resolve().parents[2] / "assets"
 
@@ -61,9 +61,10 @@ def build_assets(out: Path) -> dict:
 
 @functools.lru_cache(maxsize=1)
 def load_manifest() -> dict:
+    """The mesh library's ``manifest.json`` (read once); ``UserError`` if the library is not built."""
     path = assets_dir() / "meshes" / "manifest.json"
     if not path.exists():
-        raise UserError(f"mesh library not found at {path}; build it with `python -m objsearch.house.assets` or set OBJSEARCH_ASSETS")
+        raise UserError(f"mesh library not found at {path}; build it with `objsearch data rebuild assets` or set OBJSEARCH_ASSETS")
     with open(path) as f:
         return json.load(f)
 
@@ -86,18 +87,9 @@ def mesh_file(category: str, variant: str) -> str:
 
 @functools.lru_cache(maxsize=None)
 def mesh_bytes(category: str, variant: str) -> bytes:
+    """The OBJ file bytes of one category's variant (read once)."""
     return (assets_dir() / "meshes" / mesh_file(category, variant)).read_bytes()
 
 
-def main(argv: list[str] | None = None) -> int:
-    parser = argparse.ArgumentParser(description="Build the house mesh library deterministically.")
-    parser.add_argument("--out", type=Path, default=assets_dir(), help="assets directory (default: %(default)s)")
-    args = parser.parse_args(argv)
-    manifest = build_assets(args.out)
-    n = sum(len(v) for v in manifest["categories"].values())
-    print(f"wrote {n} meshes for {len(manifest['categories'])} categories under {args.out / 'meshes'}")
-    return 0
-
-
-if __name__ == "__main__":
-    raise SystemExit(main())
+if __name__ == "__main__":  # the old entry point, gone: say where it went
+    raise SystemExit("python -m objsearch.house.assets is now: objsearch data rebuild assets [--out DIR]")

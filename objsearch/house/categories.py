@@ -40,6 +40,8 @@ PLACEMENTS = ("wall", "corner", "middle", "on_wall", "on_top", "group")
 
 @dataclass(frozen=True)
 class Category:
+    """One object category: its id, name, placement rule, size bounds (metres), palette and room priors."""
+
     id: int
     name: str
     placement: str

@@ -15,6 +15,7 @@ from objsearch.errors import UserError
 
 
 def add_parser(subparsers) -> None:
+    """Add ``objsearch generate`` to ``subparsers``."""
     p = subparsers.add_parser("generate", help="generate MuJoCo houses (house.xml, spec.json, preview.png)", description=__doc__,
                               formatter_class=argparse.RawDescriptionHelpFormatter)
     p.add_argument("--seed", type=non_negative_int, default=0, help="first seed (default: 0)")
@@ -28,6 +29,7 @@ def add_parser(subparsers) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
+    """``objsearch generate``: write ``--num`` houses from ``--seed`` on; ``UserError`` listing those that failed."""
     from tqdm import tqdm
 
     from objsearch.fileio import check_writable, write_json

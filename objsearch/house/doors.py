@@ -54,6 +54,11 @@ def _edge_cost(ta: str, tb: str) -> float:
 
 
 def place_doors(rects: list[Rect], types: list[str], rng: np.random.Generator, thickness: float) -> list[Door]:
+    """Doors connecting every room: a spanning tree from the living room over shared walls, plus some
+    extra doors between public rooms.
+
+    Raises ``StageFailure`` if the rooms cannot all be connected (no shared wall long enough).
+    """
     n = len(rects)
     need = DOOR_WIDTH[1] + 2 * DOOR_MARGIN + thickness
     nbrs: dict[tuple[int, int], tuple] = {}
@@ -110,6 +115,7 @@ def _cut(lo: float, hi: float, holes: list[tuple[float, float]]) -> list[tuple[f
 
 def build_walls(rects: list[Rect], doors: list[Door], footprint: tuple[float, float], thickness: float, height: float,
                 wall_materials: list[str], exterior_material: str) -> list[Wall]:
+    """The walls of every room (inner half-walls, outer ones on the footprint edge), cut at the doors."""
     t = thickness / 2
     width, depth = footprint
     walls: list[Wall] = []

@@ -53,6 +53,7 @@ def room_program(num_rooms: int, rng: np.random.Generator) -> list[str]:
 
 
 def footprint(size_class: str, rng: np.random.Generator) -> tuple[float, float]:
+    """A house footprint (width, depth) in metres for ``size_class``, drawn from ``rng`` and snapped."""
     lo, hi = SIZE_CLASSES[size_class]["side"]
     return _snap(rng.uniform(lo, hi)), _snap(rng.uniform(lo, hi))
 

@@ -36,6 +36,7 @@ DOOR_CLEARANCE = 0.9
 
 
 def local_to_world(obj: ObjectInstance, lx: float, ly: float) -> tuple[float, float]:
+    """World (x, y) of the point (lx, ly) in ``obj``'s own frame (yaw a multiple of 90)."""
     a = math.radians(obj.yaw)
     c, s = round(math.cos(a)), round(math.sin(a))
     return obj.position[0] + c * lx - s * ly, obj.position[1] + s * lx + c * ly
@@ -63,6 +64,10 @@ def _on_top_at(L: RoomLayout, name: str, parent: ObjectInstance, lx: float, ly: 
 
 
 def sofa_group(L: RoomLayout, gid: str) -> bool:
+    """Living-room group: sofa, TV stand with a TV facing it, maybe a coffee table, side table and remote.
+
+    Returns False if it does not fit.
+    """
     rng = L.rng
     x0, y0, x1, y1 = L.interior
     for _ in range(30):
@@ -116,6 +121,7 @@ def sofa_group(L: RoomLayout, gid: str) -> bool:
 
 
 def dining_group(L: RoomLayout, gid: str) -> bool:
+    """Dining group: a table with chairs round it (and at its ends when long), plates; False if it does not fit."""
     rng = L.rng
     x0, y0, x1, y1 = L.interior
     for _ in range(20):
@@ -153,6 +159,7 @@ BED_CORRIDOR = 0.7  # free width kept beside the bed on each nightstand side
 
 
 def bed_group(L: RoomLayout, gid: str) -> bool:
+    """Bedroom group: bed against a wall, one or two nightstands with lamps, pillows; False if it does not fit."""
     rng = L.rng
     for k in range(40):
         side = "SNWE"[int(rng.integers(4))]
@@ -200,6 +207,7 @@ def bed_group(L: RoomLayout, gid: str) -> bool:
 
 
 def bathroom_group(L: RoomLayout, gid: str) -> bool:
+    """Bathroom group: toilet with paper, sink with a mirror, bathtub with a towel; False without toilet or sink."""
     rng = L.rng
     x0, y0, x1, y1 = L.interior
     tub = None
@@ -232,6 +240,10 @@ def bathroom_group(L: RoomLayout, gid: str) -> bool:
 
 
 def desk_group(L: RoomLayout, gid: str, computer: bool = True) -> bool:
+    """Office group: desk against a wall with an office chair, a computer and keyboard (or a laptop), maybe a lamp.
+
+    Returns False if it does not fit; raises ``StageFailure`` when the computer finds no place on the desk.
+    """
     rng = L.rng
     for _ in range(25):
         side = "SNWE"[int(rng.integers(4))]
@@ -268,6 +280,10 @@ def desk_group(L: RoomLayout, gid: str, computer: bool = True) -> bool:
 
 
 def kitchen_group(L: RoomLayout, gid: str) -> bool:
+    """Kitchen group: fridge, stove, sink counter, maybe a dishwasher and counters in a run along one wall.
+
+    Returns False if it does not fit.
+    """
     rng = L.rng
     height = r4(round(rng.uniform(0.88, 0.92), 2))
     depth = r4(round(rng.uniform(0.6, 0.62), 2))
@@ -345,6 +361,10 @@ def door_keepouts(L: RoomLayout, room_bounds, doors: list[Door]) -> None:
 
 
 def furnish_room(L: RoomLayout, house_types: list[str]) -> None:
+    """Furnish one room: its mandatory groups, optional groups, then the fill categories of its type.
+
+    ``house_types``: the room types of the whole house. Raises ``StageFailure`` when a mandatory group does not fit.
+    """
     rng = L.rng
     for gname, fn in MANDATORY[L.type]:
         if not fn(L, f"{gname}_{L.room_id}"):
@@ -366,6 +386,7 @@ def furnish_room(L: RoomLayout, house_types: list[str]) -> None:
 
 
 def furnish(ctx: HouseContext, rooms, interiors, doors: list[Door], wall_height: float) -> list[ObjectInstance]:
+    """Furnish every room of the house (door keep-outs first) and return all objects placed."""
     types = [r.type for r in rooms]
     for room, interior in zip(rooms, interiors):
         L = RoomLayout(ctx, room.id, room.type, interior, wall_height)

@@ -49,6 +49,8 @@ class HouseGenerationError(RuntimeError):
 
 @dataclass
 class GeneratedHouse:
+    """A generated house: its spec, MJCF text, compiled model and validation report."""
+
     spec: HouseSpec
     xml: str
     model: mujoco.MjModel
@@ -56,10 +58,12 @@ class GeneratedHouse:
 
 
 def house_id(seed: int, split: str = "train") -> str:
+    """The id of the house of ``seed`` in ``split``: ``train_000042``."""
     return f"{split}_{seed:06d}"
 
 
 def size_class_for(seed: int) -> str:
+    """The size class drawn for ``seed`` when none is given."""
     names = sorted(SIZE_CLASSES)
     return names[int(np.random.default_rng([seed, SIZE_STREAM]).integers(len(names)))]
 
@@ -94,6 +98,10 @@ def build_spec(seed: int, size_class: str, split: str, attempt: int) -> HouseSpe
 
 
 def generate_house(seed: int, size_class: str | None = None, split: str = "train", validate: bool = True) -> GeneratedHouse:
+    """Generate, compile and (with ``validate``) check the house of ``seed``, retrying up to ``MAX_ATTEMPTS``.
+
+    Raises ``UserError`` for an unknown split or size class, ``HouseGenerationError`` if no attempt is valid.
+    """
     if split not in SPLITS:
         raise UserError(f"unknown split {split!r}; use one of {', '.join(SPLITS)}")
     if size_class is not None and size_class not in SIZE_CLASSES:
@@ -129,7 +137,7 @@ def write_house(house: GeneratedHouse, out_dir: str | Path, preview: bool = True
     with atomic_write(d / "house.xml") as f:
         f.write(house.xml)
     with atomic_write(d / "spec.json") as f:
-        f.write(house.spec.to_json())
+        f.write(house.spec.to_json_text())
     if preview:
         from objsearch.house.preview import write_preview
 

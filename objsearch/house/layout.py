@@ -33,6 +33,7 @@ Box = tuple[float, float, float, float, float, float]
 
 
 def box_of(x: float, y: float, z: float, size, yaw: int) -> Box:
+    """World box (x0, y0, z0, x1, y1, z1) of an object of ``size`` (w, d, h), footprint centre (x, y), base z."""
     w, d, h = size
     if yaw % 180:
         w, d = d, w
@@ -40,6 +41,7 @@ def box_of(x: float, y: float, z: float, size, yaw: int) -> Box:
 
 
 def overlaps(a: Box, b: Box, eps: float = EPS) -> bool:
+    """Whether boxes ``a`` and ``b`` overlap by more than ``eps`` along all three axes."""
     return a[0] < b[3] - eps and b[0] < a[3] - eps and a[1] < b[4] - eps and b[1] < a[4] - eps and a[2] < b[5] - eps and b[2] < a[5] - eps
 
 
@@ -71,6 +73,10 @@ class HouseContext:
         self.objects: list[ObjectInstance] = []
 
     def new_instance(self, cat: Category, room: int, pos, yaw: int, size, placement: str, parent=None, group=None) -> ObjectInstance:
+        """Create, record and return the next ``cat`` instance (numbered per category) in ``room``.
+
+        Draws its variant (among the split's) and colour from the house rng; ``parent`` and ``group`` are names.
+        """
         i = self.counts.get(cat.name, 0)
         self.counts[cat.name] = i + 1
         names = assets.variants(cat.name, self.split)
@@ -82,6 +88,8 @@ class HouseContext:
 
 
 class RoomLayout:
+    """One room being furnished: its interior (x0, y0, x1, y1), the boxes that block it, the objects placed in it."""
+
     def __init__(self, ctx: HouseContext, room_id: int, room_type: str, interior, wall_height: float):
         self.ctx, self.rng = ctx, ctx.rng
         self.room_id, self.type = room_id, room_type
@@ -96,6 +104,7 @@ class RoomLayout:
         return float(self.rng.uniform(lo, hi)) if hi > lo else float(lo)
 
     def side_length(self, side: str) -> float:
+        """Interior length (metres) of wall ``side`` (one of S, N, W, E)."""
         x0, y0, x1, y1 = self.interior
         return x1 - x0 if side in "SN" else y1 - y0
 
@@ -110,6 +119,11 @@ class RoomLayout:
         return x - self.interior[0] if side in "SN" else y - self.interior[1]
 
     def fits(self, box: Box, ignore: tuple[str, ...] = (), inside: bool = True, gap: float = GAP) -> bool:
+        """Whether ``box`` is free: below the ceiling (less 5 cm), clear of every block by ``gap``.
+
+        ``ignore``: owners whose blocks do not count (the parent of an object on top); with ``inside``, the box must
+        also lie within the interior.
+        """
         x0, y0, x1, y1 = self.interior
         if inside and (box[0] < x0 - EPS or box[1] < y0 - EPS or box[3] > x1 + EPS or box[4] > y1 + EPS):
             return False
@@ -119,6 +133,7 @@ class RoomLayout:
         return not any(overlaps(grown, b) for b, owner in self.blocks if owner not in ignore)
 
     def block(self, box: Box, owner: str | None = None) -> None:
+        """Mark ``box`` as taken; ``owner`` is the object's name, None for a keep-out zone."""
         self.blocks.append((tuple(box), owner))
 
     def keep_front(self, obj: ObjectInstance, depth: float = ACCESS_DEPTH, back: bool = False) -> None:
@@ -140,6 +155,7 @@ class RoomLayout:
 
     # --- sampling ---------------------------------------------------------------------
     def sample_size(self, cat: Category, max_width: float | None = None) -> tuple[float, float, float]:
+        """Draw a size (w, d, h) in metres within the category's bounds, width at most ``max_width``."""
         lo, hi = np.asarray(cat.size_min), np.asarray(cat.size_max)
         if max_width is not None:
             hi = hi.copy()
@@ -151,6 +167,10 @@ class RoomLayout:
 
     def place(self, cat: Category, size, x: float, y: float, z: float, yaw: int, placement: str, parent: ObjectInstance | None = None,
               group: str | None = None, inside: bool = True, check: bool = True, access: float = 0.0) -> ObjectInstance | None:
+        """Place ``cat`` with footprint centre (x, y), base z, and block its box; None if it does not fit.
+
+        ``check=False`` places it without the fit check; ``access`` > 0 keeps that deep a strip in front of it free.
+        """
         x, y, z = r4(x), r4(y), r4(z)
         box = box_of(x, y, z, size, yaw)
         ignore = (parent.name,) if parent is not None else ()
@@ -165,6 +185,10 @@ class RoomLayout:
         return obj
 
     def try_wall(self, cat: Category, size=None, tries: int = 20, access: float = ACCESS_DEPTH, corner: bool = False, group=None):
+        """Place ``cat`` with its back against a random wall (``corner``: at one end of it); None after ``tries``.
+
+        ``access``: depth of the strip kept free in front of it.
+        """
         size = size or self.sample_size(cat)
         for _ in range(tries):
             side = "SNWE"[int(self.rng.integers(4))]
@@ -182,6 +206,7 @@ class RoomLayout:
         return None
 
     def try_middle(self, cat: Category, size=None, clearance: float = 0.6, tries: int = 20, group=None):
+        """Place ``cat`` free-standing with ``clearance`` metres free around it; None if it does not fit."""
         size = size or self.sample_size(cat)
         x0, y0, x1, y1 = self.interior
         for _ in range(tries):
@@ -197,6 +222,10 @@ class RoomLayout:
         return None
 
     def try_on_wall(self, cat: Category, size=None, tries: int = 20, side=None, u_range=None, z=None, group=None):
+        """Hang ``cat`` on a wall, base at ``z`` (default: drawn from its ``wall_z``); None if it does not fit.
+
+        ``side`` fixes the wall and ``u_range`` (lo, hi) the range of its centre along it.
+        """
         size = size or self.sample_size(cat)
         for _ in range(tries):
             s = side or "SNWE"[int(self.rng.integers(4))]
@@ -213,6 +242,11 @@ class RoomLayout:
         return None
 
     def try_on_top(self, cat: Category, parents=None, tries: int = 12, size=None, group=None, face_parent: bool = True, where=None):
+        """Stand ``cat`` on a receptacle in the room (or one of ``parents``); None if none has room.
+
+        ``face_parent``: take the parent's yaw (else a random one); ``where(parent, w, d, rect)`` picks (x, y)
+        on the surface rect instead of a random spot.
+        """
         cands = parents if parents is not None else [o for o in self.objects if o.category in cat.parents]
         if not cands:
             return None

@@ -33,6 +33,7 @@ EXTERIOR = Material("exterior", (0.75, 0.72, 0.68, 1.0))
 
 
 def jitter(rgb, rng: np.random.Generator, amount: float = 0.05) -> tuple[float, float, float, float]:
+    """``rgb`` with each channel moved by up to ``amount`` (clipped to [0, 1]), as opaque RGBA."""
     c = np.clip(np.asarray(rgb, dtype=float) + rng.uniform(-amount, amount, 3), 0.0, 1.0)
     return (r4(c[0]), r4(c[1]), r4(c[2]), 1.0)
 
@@ -52,4 +53,5 @@ def room_materials(room_id: int, room_type: str, rng: np.random.Generator) -> tu
 
 
 def object_color(cat: Category, rng: np.random.Generator) -> tuple[float, float, float, float]:
+    """An RGBA colour for one instance of ``cat``: a palette colour, jittered."""
     return jitter(cat.colors[int(rng.integers(len(cat.colors)))], rng, 0.06)

@@ -20,12 +20,14 @@ FULL_TOP: Surface = (1.0, -0.5, -0.5, 0.5, 0.5)
 
 
 def box(x0, y0, z0, x1, y1, z1) -> trimesh.Trimesh:
+    """An axis-aligned box with corners (x0, y0, z0) and (x1, y1, z1)."""
     m = trimesh.creation.box(extents=[x1 - x0, y1 - y0, z1 - z0])
     m.apply_translation([(x0 + x1) / 2, (y0 + y1) / 2, (z0 + z1) / 2])
     return m
 
 
 def cyl(cx, cy, z0, z1, r, n=12) -> trimesh.Trimesh:
+    """An upright cylinder of radius ``r`` centred at (cx, cy) from z0 to z1, with ``n`` sides."""
     m = trimesh.creation.cylinder(radius=r, height=z1 - z0, sections=n)
     m.apply_translation([cx, cy, (z0 + z1) / 2])
     return m
@@ -43,6 +45,7 @@ def revolve(profile, n=14) -> trimesh.Trimesh:
 
 
 def blob(cx, cy, cz, rx, ry, rz) -> trimesh.Trimesh:
+    """An ellipsoid (a coarse icosphere) centred at (cx, cy, cz) with semi-axes rx, ry, rz."""
     m = trimesh.creation.icosphere(subdivisions=1, radius=1.0)
     m.apply_scale([rx, ry, rz])
     m.apply_translation([cx, cy, cz])
@@ -60,6 +63,7 @@ def legs(x, y, z0, z1, t, round_=False):
 
 
 def table(style, rng):
+    """Tables, desks, benches and stools: a top on four legs, panel ends, a pedestal or legs with a shelf."""
     top = rng.uniform(0.06, 0.12)
     t = rng.uniform(0.06, 0.1)
     z = 1 - top
@@ -77,6 +81,7 @@ def table(style, rng):
 
 
 def cabinet(style, rng, drawers=3, plinth=True):
+    """Cabinets, dressers, wardrobes: a carcass with ``drawers`` (varied by style) fronts and handles."""
     depth = 0.46
     base = 0.08 if plinth else 0.0
     parts = [box(-0.5, -0.5, base, 0.5, depth - 0.5 + 0.5, 1.0)]
@@ -95,6 +100,7 @@ def cabinet(style, rng, drawers=3, plinth=True):
 
 
 def shelf(style, rng):
+    """Open shelving (bookshelf, shoe rack): sides, back and 4-6 boards; style 3 adds a closed bottom."""
     t = rng.uniform(0.03, 0.05)
     n = 3 + style % 3
     parts = [box(-0.5, -0.5, 0, -0.5 + t, 0.5, 1), box(0.5 - t, -0.5, 0, 0.5, 0.5, 1), box(-0.5, -0.5, 0, 0.5, -0.45, 1)]
@@ -107,6 +113,10 @@ def shelf(style, rng):
 
 
 def seat(style, rng, arms=False, legs_h=0.1, seat_z=0.45, back=0.25):
+    """Sofas, armchairs, ottomans: a seat block on legs or a plinth with a back and optional arms.
+
+    ``legs_h``, ``seat_z`` and ``back`` (arm height above the seat) are in the unit frame.
+    """
     parts = []
     back_t = rng.uniform(0.12, 0.2) if arms else rng.uniform(0.06, 0.1)
     if style in (0, 2):
@@ -127,6 +137,7 @@ def seat(style, rng, arms=False, legs_h=0.1, seat_z=0.45, back=0.25):
 
 
 def chair(style, rng):
+    """Dining chairs: legs or panel sides, a seat and a solid or framed back."""
     if style == 1:  # chair with panel sides instead of legs
         t = 0.06
         return [box(-0.5, -0.5, 0, -0.5 + t, 0.5, 0.45), box(0.5 - t, -0.5, 0, 0.5, 0.5, 0.45), box(-0.5, -0.5, 0.4, 0.5, 0.5, 0.47),
@@ -141,6 +152,7 @@ def chair(style, rng):
 
 
 def office_chair(style, rng):
+    """Office chairs: a cross base, a column, seat and back; styles add arms and a head rest."""
     parts = [box(-0.5, -0.04, 0, 0.5, 0.04, 0.05), box(-0.04, -0.5, 0, 0.04, 0.5, 0.05), cyl(0, 0, 0.05, 0.42, 0.04)]
     parts.append(box(-0.4, -0.4, 0.42, 0.4, 0.4, 0.5))
     parts.append(box(-0.36, -0.42, 0.5, 0.36, -0.34, 1.0 if style != 1 else 0.8))
@@ -154,6 +166,7 @@ def office_chair(style, rng):
 
 
 def bed(style, rng):
+    """Beds: headboard, frame on legs or a base, mattress; style 2 adds a footboard. Surface: the mattress."""
     mattress = 0.5
     frame = rng.uniform(0.2, 0.3)
     parts = [box(-0.5, -0.5, 0, 0.5, -0.44, 1.0)]  # headboard
@@ -169,6 +182,7 @@ def bed(style, rng):
 
 
 def lamp(style, rng, arm=False):
+    """Floor, table and desk lamps: base, stem and a cylinder, cone or ball shade; ``arm`` adds an arm."""
     shade_h = rng.uniform(0.2, 0.32)
     parts = [cyl(0, 0, 0, 0.04, 0.35 if style != 1 else 0.25, 12), cyl(0, 0, 0.04, 1 - shade_h * 0.7, 0.03, 6)]
     if style == 2:
@@ -202,6 +216,7 @@ def vessel(style, rng, kind):
 
 
 def pot(style, rng):
+    """Cooking pots: a body with a rim and a lid knob; styles 0 and 2 add two side handles, style 3 one."""
     parts = [cyl(0, 0, 0, 0.85, 0.4, 14), cyl(0, 0, 0.85, 0.9, 0.42, 14)]
     if style in (0, 2):
         parts += [box(-0.5, -0.04, 0.6, -0.4, 0.04, 0.7), box(0.4, -0.04, 0.6, 0.5, 0.04, 0.7)]
@@ -215,11 +230,13 @@ def pot(style, rng):
 
 
 def kettle(style, rng):
+    """Kettles: a straight or tapered body, a lid, a spout and a handle."""
     body = cyl(0, 0, 0, 0.75, 0.35, 14) if style % 2 == 0 else revolve([(0, 0), (0.35, 0), (0.3, 0.75), (0, 0.75)])
     return [body, cyl(0, 0, 0.75, 0.82, 0.1, 8), box(-0.05, 0.1, 0.75, 0.05, 0.5, 1.0) if style < 2 else hcyl(-0.5, -0.3, 0, 0.6, 0.05), box(-0.05, -0.5, 0.2, 0.05, -0.3, 0.9)], None
 
 
 def plant(style, rng):
+    """Potted plants: a pot with a bush, stems with leaves, upright leaves or clustered balls."""
     pot_h = rng.uniform(0.25, 0.4)
     parts = [cyl(0, 0, 0, pot_h, 0.3 if style != 2 else 0.22, 10)]
     if style == 0:
@@ -247,6 +264,7 @@ def panel(style, rng, frame=True):
 
 
 def clock(style, rng):
+    """Wall clocks: a round face (style 1: a square one) with hands."""
     if style == 1:
         return [box(-0.5, -0.5, 0, 0.5, 0.3, 1.0), box(-0.05, 0.3, 0.45, 0.05, 0.5, 0.85)], None
     body = trimesh.creation.cylinder(radius=0.5, segment=[[0, -0.5, 0.5], [0, 0.3, 0.5]], sections=16)
@@ -273,6 +291,7 @@ def screen(style, rng, stand=True):
 
 
 def laptop(style, rng):
+    """Laptops: a base and an upright lid at the back edge (higher styles move it forward)."""
     return [box(-0.5, -0.5, 0, 0.5, 0.5, 0.08), box(-0.5, -0.5 + 0.05 * style, 0.08, 0.5, -0.4 + 0.05 * style, 1.0)], None
 
 
@@ -287,6 +306,7 @@ def slab(style, rng, keys=False):
 
 
 def pillow(style, rng):
+    """Pillows: a puffed box, a ball, a plain box or two side-by-side rolls."""
     if style == 0:
         return [box(-0.5, -0.5, 0.1, 0.5, 0.5, 0.9), blob(0, 0, 0.5, 0.45, 0.45, 0.5)], None
     if style == 1:
@@ -311,6 +331,10 @@ def small_box(style, rng):
 
 
 def appliance(style, rng, tall=False, burners=False):
+    """Fridges, stoves, dishwashers: a box with doors and handles.
+
+    ``tall`` gives two doors split at 0.6-0.8 of the height (fridge); ``burners`` adds four knobs (stove).
+    """
     parts = [box(-0.5, -0.5, 0.0, 0.5, 0.45, 1.0)]
     if tall:
         split = 0.6 + 0.1 * (style % 3)
@@ -325,6 +349,7 @@ def appliance(style, rng, tall=False, burners=False):
 
 
 def counter(style, rng):
+    """Kitchen counters: a worktop over a carcass with 1-3 doors; style 3 adds a rail."""
     parts = [box(-0.5, -0.5, 0.96, 0.5, 0.5, 1.0), box(-0.48, -0.5, 0.1, 0.48, 0.42, 0.96), box(-0.46, -0.5, 0, 0.46, 0.36, 0.1)]
     n = 1 + style % 3
     for i in range(n):
@@ -336,6 +361,7 @@ def counter(style, rng):
 
 
 def kitchen_sink(style, rng):
+    """Kitchen sinks (set on a counter): a basin slab with a faucet."""
     parts = [box(-0.5, -0.1, 0, 0.5, 0.5, 0.12)]
     faucet_x = 0.0 if style != 2 else 0.3
     parts += [cyl(faucet_x, -0.3, 0, 0.9, 0.04, 8), box(faucet_x - 0.03, -0.3, 0.85, faucet_x + 0.03, 0.1 if style != 1 else -0.05, 1.0)]
@@ -345,6 +371,7 @@ def kitchen_sink(style, rng):
 
 
 def toilet(style, rng):
+    """Toilets: a cistern, a round or square base and a seat; style 3 adds a flush button."""
     parts = [box(-0.5, -0.5, 0.45, 0.5, -0.2, 1.0)] if style != 2 else [box(-0.5, -0.5, 0.5, 0.5, -0.3, 0.8)]
     parts.append(box(-0.3, -0.3, 0, 0.3, 0.2, 0.45) if style % 2 else cyl(0, -0.05, 0, 0.45, 0.3, 10))
     if style == 3:
@@ -354,6 +381,7 @@ def toilet(style, rng):
 
 
 def sink(style, rng):
+    """Bathroom sinks: a vanity, a pedestal or a wall-hung basin with a tap. Surface: the basin top."""
     if style in (0, 3):  # vanity
         parts = [box(-0.5, -0.5, 0, 0.5, 0.42, 0.88), box(-0.5, -0.5, 0.88, 0.5, 0.5, 0.94)]
         if style == 3:
@@ -367,6 +395,7 @@ def sink(style, rng):
 
 
 def bathtub(style, rng):
+    """Bathtubs: a floor and four walls; styles add feet, a tap, an apron and a rim."""
     t = 0.08
     parts = [box(-0.5, -0.5, 0, 0.5, 0.5, 0.15), box(-0.5, -0.5, 0, -0.5 + t, 0.5, 1), box(0.5 - t, -0.5, 0, 0.5, 0.5, 1),
              box(-0.5, -0.5, 0, 0.5, -0.5 + t * 1.5, 1), box(-0.5, 0.5 - t * 1.5, 0, 0.5, 0.5, 1)]
@@ -381,6 +410,7 @@ def bathtub(style, rng):
 
 
 def towel(style, rng):
+    """Towels hanging on a rail; style 3 adds a second, shorter towel."""
     parts = [hcyl(-0.5, 0.5, -0.3, 0.95, 0.05), box(-0.45, -0.2, 0.0 if style != 1 else 0.2, 0.45, 0.5, 0.93)]
     if style == 2:
         parts.append(box(-0.5, -0.5, 0.9, -0.45, -0.3, 1.0))
@@ -390,6 +420,7 @@ def towel(style, rng):
 
 
 def toilet_paper(style, rng):
+    """Toilet-paper holders: a wall plate with a roll."""
     parts = [box(-0.5, -0.5, 0.2 if style != 2 else 0.0, 0.5, -0.35, 1.0), hcyl(-0.45, 0.45, 0.05, 0.55, 0.42 if style != 1 else 0.35)]
     if style == 3:
         parts.append(box(-0.5, -0.5, 0.95, 0.5, 0.5, 1.0))
@@ -406,6 +437,7 @@ def rack(style, rng):
 
 
 def basket(style, rng):
+    """Laundry baskets: a square or round (style 2) body with a handle bar across the top."""
     parts = [box(-0.5, -0.5, 0, 0.5, 0.5, 0.85 + 0.05 * style)] if style != 2 else [cyl(0, 0, 0, 0.9, 0.5, 12)]
     parts.append(box(-0.5, -0.05, 0.8, 0.5, 0.05, 1.0))
     return parts, None

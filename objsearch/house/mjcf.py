@@ -42,6 +42,7 @@ def _quat(yaw_deg: int) -> list[float]:
 
 
 def build_mjspec(spec: HouseSpec) -> mujoco.MjSpec:
+    """The ``MjSpec`` of a house: materials, light, floors, walls, doors and one mesh body per object."""
     s = mujoco.MjSpec()
     s.modelname = spec.house_id
     s.meshdir = "meshes"

@@ -25,6 +25,8 @@ AGENT_HEIGHT = 1.6
 
 @dataclass(frozen=True)
 class OccupancyGrid:
+    """Where the agent can stand: cells of ``resolution`` metres from ``origin`` (row = y, col = x)."""
+
     free: np.ndarray          # bool (rows, cols): the agent's centre may be here
     obstacles: np.ndarray     # bool (rows, cols): a wall or object covers the cell centre
     origin: tuple[float, float]
@@ -42,6 +44,7 @@ class OccupancyGrid:
         return int((y - self.origin[1]) // self.resolution), int((x - self.origin[0]) // self.resolution)
 
     def is_free(self, x: float, y: float) -> bool:
+        """Whether the agent's centre may be at world point (x, y) (False off the grid)."""
         r, c = self.cell(x, y)
         rows, cols = self.free.shape
         return 0 <= r < rows and 0 <= c < cols and bool(self.free[r, c])
@@ -59,6 +62,7 @@ def _fill(mask: np.ndarray, box, origin, res) -> None:
 
 
 def obstacle_mask(spec: HouseSpec, resolution: float, agent_height: float = AGENT_HEIGHT):
+    """Bool (rows, cols) mask of cells under walls and objects below ``agent_height``, and its origin."""
     width, depth = spec.footprint
     origin = (0.0, 0.0)
     shape = (int(np.ceil(depth / resolution)), int(np.ceil(width / resolution)))
@@ -73,6 +77,7 @@ def obstacle_mask(spec: HouseSpec, resolution: float, agent_height: float = AGEN
 
 def occupancy_grid(spec: HouseSpec, resolution: float = 0.05, agent_radius: float = AGENT_RADIUS,
                    agent_height: float = AGENT_HEIGHT) -> OccupancyGrid:
+    """The house's occupancy grid: free cells at least ``agent_radius`` (plus half a cell) from any obstacle."""
     mask, origin = obstacle_mask(spec, resolution, agent_height)
     # Border of the grid counts as obstacle too (nothing outside the footprint is reachable).
     padded = np.pad(~mask, 1, constant_values=False).astype(np.uint8)

@@ -24,6 +24,7 @@ ROOM_COLORS = {  # BGR
 
 
 def render_preview(spec: HouseSpec) -> np.ndarray:
+    """A top-down BGR (H, W, 3) uint8 plan of the house (cv2 order): rooms, walls, doors, objects, a title."""
     width, depth = spec.footprint
     h, w = int(depth * PX) + 2 * MARGIN, int(width * PX) + 2 * MARGIN
     img = np.full((h, w, 3), 255, np.uint8)
@@ -71,6 +72,7 @@ def render_preview(spec: HouseSpec) -> np.ndarray:
 
 
 def write_preview(spec: HouseSpec, path: str | Path) -> None:
+    """Write the preview plan of ``spec`` as a PNG at ``path``."""
     ok, data = cv2.imencode(".png", render_preview(spec))
     if not ok:
         raise RuntimeError(f"could not encode the preview of {spec.house_id}")

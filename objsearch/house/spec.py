@@ -13,9 +13,11 @@ frame, so its world footprint swaps width and depth when yaw is 90 or 270.
 
 from __future__ import annotations
 
-import json
 import math
-from dataclasses import asdict, dataclass, field, fields
+from dataclasses import dataclass, field
+
+from objsearch.configs import JsonConfig
+from objsearch.errors import UserError
 
 SCHEMA_VERSION = 1
 DECIMALS = 4
@@ -27,6 +29,7 @@ def r4(x: float) -> float:
 
 
 def r4s(xs) -> tuple[float, ...]:
+    """``r4`` of every element, as a tuple."""
     return tuple(r4(x) for x in xs)
 
 
@@ -53,12 +56,14 @@ class Room:
 
     @property
     def bounds(self) -> tuple[float, float, float, float]:
+        """Bounding box (x0, y0, x1, y1) of the room's polygon, metres."""
         xs = [p[0] for p in self.polygon]
         ys = [p[1] for p in self.polygon]
         return min(xs), min(ys), max(xs), max(ys)
 
     @property
     def area(self) -> float:
+        """Area of the room's polygon, square metres."""
         pts = self.polygon
         return 0.5 * abs(sum(pts[i][0] * pts[i - 1][1] - pts[i - 1][0] * pts[i][1] for i in range(len(pts))))
 
@@ -118,10 +123,12 @@ class ObjectInstance:
 
     @property
     def name(self) -> str:
+        """``<category>_<instance>``: the name of the object's MJCF body and geom."""
         return f"{self.category}_{self.instance}"
 
     @property
     def front(self) -> tuple[float, float]:
+        """Unit world (x, y) direction the object's front faces: ``(-sin yaw, cos yaw)``."""
         a = math.radians(self.yaw)
         return (r4(-math.sin(a)), r4(math.cos(a)))
 
@@ -143,7 +150,14 @@ class ObjectInstance:
 
 
 @dataclass(frozen=True)
-class HouseSpec:
+class HouseSpec(JsonConfig):
+    """A whole house. ``to_json()`` is its data; ``to_json_text()`` the canonical text
+    (sorted keys, one-space indent, trailing newline) that ``spec.json`` holds and spec
+    hashes are taken of, so its bytes must not change (``objsearch.configs.JsonConfig``)."""
+
+    DESCRIPTION = "a house spec"
+    JSON_SORT_KEYS = True
+
     house_id: str
     seed: int
     split: str
@@ -163,37 +177,21 @@ class HouseSpec:
     extra: dict = field(default_factory=dict)
 
     def room(self, room_id: int) -> Room:
+        """The room with id ``room_id`` (StopIteration if there is none)."""
         return next(r for r in self.rooms if r.id == room_id)
 
     def object(self, name: str) -> ObjectInstance:
+        """The object named ``name`` (StopIteration if there is none)."""
         return next(o for o in self.objects if o.name == name)
 
     def material(self, name: str) -> Material:
+        """The material named ``name`` (StopIteration if there is none)."""
         return next(m for m in self.materials if m.name == name)
 
-    def to_dict(self) -> dict:
-        return asdict(self)
-
-    def to_json(self) -> str:
-        """Canonical JSON: sorted keys, one-space indent, trailing newline."""
-        return json.dumps(self.to_dict(), sort_keys=True, indent=1) + "\n"
-
     @classmethod
-    def from_dict(cls, data: dict) -> "HouseSpec":
+    def upgrade(cls, data: dict) -> dict:
+        """The legacy hook: only the current schema is read (older specs are regenerated)."""
         if data.get("schema_version") != SCHEMA_VERSION:
-            raise ValueError(f"spec schema_version {data.get('schema_version')!r} is not {SCHEMA_VERSION}; regenerate the house")
-        d = dict(data)
-        d["footprint"] = tuple(d["footprint"])
-        d["rooms"] = tuple(Room(**{**r, "polygon": tuple(tuple(p) for p in r["polygon"])}) for r in d["rooms"])
-        d["doors"] = tuple(Door(**{**x, "rooms": tuple(x["rooms"]), "center": tuple(x["center"])}) for x in d["doors"])
-        d["walls"] = tuple(Wall(**{**w, "box": tuple(w["box"])}) for w in d["walls"])
-        d["objects"] = tuple(
-            ObjectInstance(**{**o, **{k: tuple(o[k]) for k in ("position", "size", "rgba")}}) for o in d["objects"]
-        )
-        d["materials"] = tuple(Material(**{**m, "rgba": tuple(m["rgba"]), "rgba2": tuple(m["rgba2"])}) for m in d["materials"])
-        known = {f.name for f in fields(cls)}
-        return cls(**{k: v for k, v in d.items() if k in known})
-
-    @classmethod
-    def from_json(cls, text: str) -> "HouseSpec":
-        return cls.from_dict(json.loads(text))
+            raise UserError(f"schema_version {data.get('schema_version')!r} is not {SCHEMA_VERSION}; "
+                            "regenerate the house with objsearch generate")
+        return super().upgrade(data)

@@ -38,11 +38,14 @@ GRID_RESOLUTION = 0.05
 
 @dataclass
 class ValidationReport:
+    """What ``validate_house`` found: its problems and the occupancy grid it used."""
+
     problems: list[str] = field(default_factory=list)
     grid: OccupancyGrid | None = None
 
     @property
     def ok(self) -> bool:
+        """Whether no problem was found."""
         return not self.problems
 
 
@@ -54,6 +57,7 @@ def _pair_overlaps(a: np.ndarray, b: np.ndarray) -> np.ndarray:
 
 
 def check_interpenetration(spec: HouseSpec) -> list[str]:
+    """Problems of overlap: objects in walls, below the floor or above the walls, in each other, off their support."""
     problems = []
     objs = spec.objects
     boxes = np.array([o.box for o in objs], dtype=float).reshape(-1, 6)
@@ -92,6 +96,10 @@ def _dist_to_box(xs: np.ndarray, ys: np.ndarray, fp) -> np.ndarray:
 
 
 def check_reachability(spec: HouseSpec, model: mujoco.MjModel | None, grid: OccupancyGrid) -> list[str]:
+    """Problems of access: rooms the agent cannot reach, objects not within reach, objects not visible.
+
+    Visibility is checked with MuJoCo rays from reachable cells; ``model`` None skips it.
+    """
     problems = []
     n, labels = components(grid.free)
     if n <= 1:

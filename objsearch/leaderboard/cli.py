@@ -15,6 +15,7 @@ NAME = re.compile(r"[A-Za-z0-9][A-Za-z0-9_.-]*")  # matched with fullmatch: "abc
 
 
 def add_parser(subparsers) -> None:
+    """Add ``objsearch leaderboard`` (check, add, verify, render) to ``subparsers``."""
     from objsearch.leaderboard.validate import VERIFY_EPISODES
 
     parser = subparsers.add_parser("leaderboard", help="validate, add, verify and render leaderboard submissions", description=__doc__)
@@ -72,6 +73,7 @@ def default_name(agent: str) -> str:
 
 
 def run_check(args: argparse.Namespace) -> int:
+    """``objsearch leaderboard check``: validate FILEs or every stored entry; ``UserError`` for the first rejected."""
     if args.partial and not args.files:
         raise UserError("--partial checks FILEs about to be added with --partial; stored entries carry their own mark")
     files = args.files or _stored(args.dir)
@@ -85,6 +87,11 @@ def run_check(args: argparse.Namespace) -> int:
 
 
 def run_add(args: argparse.Namespace) -> int:
+    """``objsearch leaderboard add``: validate a results file, store it under ``submissions/<suite>/<name>.json``
+    and regenerate the pages.
+
+    Raises ``UserError`` for a rejected file, a bad ``--name``, or an existing entry without ``--replace``.
+    """
     from objsearch.fileio import write_json
     from objsearch.leaderboard.render import SUBMISSIONS, render
 
@@ -124,6 +131,7 @@ def _entry_path(root: str | Path, entry: str) -> Path:
 
 
 def run_verify(args: argparse.Namespace) -> int:
+    """``objsearch leaderboard verify``: replay a sample of each entry's episodes; ``UserError`` unless identical."""
     from objsearch.cluster import one_math_thread
     from objsearch.leaderboard.validate import load_submission, verify_submission
 
@@ -151,6 +159,7 @@ def run_verify(args: argparse.Namespace) -> int:
 
 
 def run_render(args: argparse.Namespace) -> int:
+    """``objsearch leaderboard render``: regenerate README.md and index.html from the stored entries."""
     from objsearch.leaderboard.render import render
 
     _stored(args.dir)

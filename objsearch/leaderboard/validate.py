@@ -25,7 +25,8 @@ from objsearch.errors import UserError
 from objsearch.eval.metrics import episode_spl, summarize
 from objsearch.eval.results import SCHEMA_VERSION
 from objsearch.eval.registry import make_agent
-from objsearch.eval.runner import PAPER_SEEDS, EvalConfig, run_units
+from objsearch.eval.config import PAPER_SEEDS, EvalConfig
+from objsearch.eval.runner import run_units
 from objsearch.eval.suites import SUITES, make_suite
 
 REQUIRED = ("schema_version", "agent", "suite", "episode_set_version", "objsearch_version", "seeds", "config", "splits", "episodes")
@@ -37,6 +38,7 @@ VERIFY_EPISODES = 8
 
 
 def load_submission(path: str | Path) -> dict:
+    """The results dict in the JSON file ``path``; ``UserError`` if it cannot be read or is no JSON object."""
     path = Path(path)
     try:
         data = json.loads(path.read_text())

@@ -14,6 +14,7 @@ from objsearch.cluster import add_executor_arguments, check_executor_arguments
 
 
 def add_parser(subparsers) -> None:
+    """Add ``objsearch perception`` (dataset, train, eval) to ``subparsers``."""
     parser = subparsers.add_parser("perception", help="segmentation + depth network: dataset, train, eval",
                                    description=__doc__)
     commands = parser.add_subparsers(dest="perception_command", metavar="ACTION", required=True)
@@ -57,11 +58,14 @@ def add_parser(subparsers) -> None:
 
 
 def run_dataset(args: argparse.Namespace) -> int:
+    """``objsearch perception dataset``: render the frames of the dataset into ``--out``; returns 0."""
+    from dataclasses import replace
+
     from objsearch.perception.dataset import build_dataset
-    from objsearch.sim.renderer import RenderSettings
+    from objsearch.sim.camera import AGENT_CAMERA
 
     check_executor_arguments(args)
-    settings = RenderSettings() if args.size is None else RenderSettings(width=args.size, height=args.size)
+    settings = AGENT_CAMERA if args.size is None else replace(AGENT_CAMERA, width=args.size, height=args.size)
     limits = {s: getattr(args, f"{s}_houses") for s in ("train", "val", "test") if getattr(args, f"{s}_houses") is not None}
     manifest = build_dataset(args.out, settings=settings, seed=args.seed, poses_per_house=args.poses_per_house,
                              eval_poses_per_house=args.eval_poses_per_house, houses=limits, progress=not args.quiet,
@@ -73,6 +77,7 @@ def run_dataset(args: argparse.Namespace) -> int:
 
 
 def run_train(args: argparse.Namespace) -> int:
+    """``objsearch perception train``: train (or resume) into ``--out``; returns 0, or 130 if interrupted."""
     from objsearch.perception.config import TrainConfig
     from objsearch.perception.train import train
 
@@ -101,17 +106,19 @@ def target_categories() -> list[int]:
 
 
 def run_eval(args: argparse.Namespace) -> int:
+    """``objsearch perception eval``: print a checkpoint's segmentation and depth metrics on a split (and as JSON)."""
     from objsearch.perception.dataset import load_split, read_manifest
     from objsearch.perception.inference import Predictor, evaluate
     from objsearch.perception.metrics import format_table, miou_over
+    from objsearch.sim.camera import RenderSettings, check_camera
 
     manifest = read_manifest(args.data)
     predictor = Predictor.from_checkpoint(args.checkpoint, device=args.device)
-    if predictor.settings != manifest["settings"]:
-        from objsearch.errors import UserError
-
-        raise UserError(f"{args.checkpoint or 'the shipped checkpoint'} was trained on frames rendered with {predictor.settings}, "
-                        f"{args.data} holds {manifest['settings']}")
+    dataset_camera = RenderSettings.from_json(manifest["settings"], source=f"{args.data}/manifest.json")
+    check_camera(predictor.settings, dataset_camera,
+                 source=f"perception checkpoint {predictor.checkpoint}", expected_name=f"the camera of dataset {args.data}",
+                 fix="pass a --data rendered with the checkpoint's camera (objsearch perception dataset --size), "
+                     "or the --checkpoint trained on this dataset")
     frames = load_split(args.data, args.split, args.max_frames)
     result = evaluate(predictor, frames, progress=not args.json)
     targets = target_categories()

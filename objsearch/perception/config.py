@@ -3,22 +3,23 @@ every checkpoint so that a run can be rebuilt from the file alone."""
 
 from __future__ import annotations
 
-import dataclasses
-import json
-import os
-from dataclasses import dataclass, field, fields
-from pathlib import Path
+from dataclasses import dataclass, field
 
-from objsearch.configs import require_at_least, typed_field
+from objsearch.configs import JsonConfig, require_at_least
 from objsearch.errors import UserError
-from objsearch.fileio import write_json
 from objsearch.perception.model import ModelConfig
 
 WEIGHTINGS = ("enet", "none")
 
 
 @dataclass(frozen=True)
-class TrainConfig:
+class TrainConfig(JsonConfig):
+    """Serialised, read and overridden (``--set``, ``--set model.KEY=...``) through
+    ``objsearch.configs.JsonConfig``."""
+
+    DESCRIPTION = "a perception training config"
+    LEGACY_KEYS = {}  # no field has been renamed or removed since the shipped checkpoint
+
     data: str = "data/perception"
     """Dataset folder written by ``objsearch perception dataset`` (its ``train`` and ``val`` splits)."""
     seed: int = 0
@@ -67,33 +68,3 @@ class TrainConfig:
         require_at_least(self, ("warmup_steps", "max_train_frames", "val_frames", "threads"), 0)
         if isinstance(self.model, dict):
             object.__setattr__(self, "model", ModelConfig.from_json(self.model))
-
-    def to_json(self) -> dict:
-        return {**dataclasses.asdict(self), "model": self.model.to_json()}
-
-    @classmethod
-    def from_json(cls, data: dict) -> "TrainConfig":
-        known = {f.name for f in fields(cls)}
-        if set(data) - known:
-            raise UserError(f"unknown training config fields {sorted(set(data) - known)}; known: {sorted(known)}")
-        return cls(**data)
-
-    def save(self, path: str | os.PathLike) -> None:
-        write_json(path, self.to_json())
-
-    @classmethod
-    def load(cls, path: str | os.PathLike) -> "TrainConfig":
-        return cls.from_json(json.loads(Path(path).read_text()))
-
-    def with_overrides(self, overrides: dict[str, str]) -> "TrainConfig":
-        """A copy with fields set from ``KEY=VALUE`` strings (``model.KEY`` for network widths)."""
-        top, model = {}, {}
-        for key, text in overrides.items():
-            if key.startswith("model."):
-                model[key[6:]] = typed_field(self.model, key[6:], text, "model.")
-            else:
-                top[key] = typed_field(self, key, text)
-        if model:
-            top["model"] = dataclasses.replace(self.model, **model)
-        return dataclasses.replace(self, **top)
-

@@ -152,7 +152,7 @@ def build_dataset(out: str | Path, *, settings=None, seed: int = 0, poses_per_ho
 
     Args:
         out: dataset folder.
-        settings: ``RenderSettings`` (default: the agent camera, 64 x 64).
+        settings: ``RenderSettings`` (default: ``objsearch.sim.camera.AGENT_CAMERA``, 64 x 64).
         seed: pose sampling seed.
         poses_per_house: frames per training house.
         eval_poses_per_house: frames per validation and test house.
@@ -168,10 +168,10 @@ def build_dataset(out: str | Path, *, settings=None, seed: int = 0, poses_per_ho
     from functools import partial
 
     from objsearch.cluster import map_houses
-    from objsearch.sim.renderer import RenderSettings
+    from objsearch.sim.camera import AGENT_CAMERA
     from objsearch.sim.suites import load_suite_file
 
-    settings = settings or RenderSettings()
+    settings = settings or AGENT_CAMERA
     out = Path(out)
     houses = DEFAULT_HOUSES | (houses or {})
     plan = []
@@ -181,7 +181,7 @@ def build_dataset(out: str | Path, *, settings=None, seed: int = 0, poses_per_ho
     task = partial(render_shard, out=out.resolve(), settings=settings, seed=seed)
     shards = map_houses(task, plan, executor, address, workers, desc=f"render {out.name}", progress=progress)
     manifest = {"version": DATASET_VERSION, "suite": SUITE, "suite_version": load_suite_file(SUITE)["version"],
-                "categories": CATEGORY_TABLE_VERSION, "num_classes": NUM_CLASSES, "settings": settings.to_dict(),
+                "categories": CATEGORY_TABLE_VERSION, "num_classes": NUM_CLASSES, "settings": settings.to_json(),
                 "settings_key": settings.key(), "seed": seed, "splits": {}}
     for (split, house_id, info, _), shard in zip(plan, shards):
         entry = manifest["splits"].setdefault(split, {"houses": {}, "frames": 0, "class_pixels": [0] * NUM_CLASSES})
@@ -218,6 +218,7 @@ def render_shard(item: tuple[str, str, dict, int], out: Path, settings, seed: in
 
 
 def read_manifest(data_dir: str | Path) -> dict:
+    """The dataset's ``manifest.json``; ``UserError`` if it cannot be read or has another version."""
     path = Path(data_dir) / "manifest.json"
     try:
         manifest = json.loads(path.read_text())

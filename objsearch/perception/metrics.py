@@ -77,6 +77,7 @@ class DepthErrors:
         self.delta1 = 0
 
     def update(self, gt: np.ndarray, pred: np.ndarray) -> None:
+        """Add the errors of one batch of depth maps (metres), over pixels with 0 < gt < zfar."""
         gt = np.asarray(gt, np.float64)
         pred = np.asarray(pred, np.float64)
         valid = (gt > 0) & (gt < self.zfar)
@@ -87,6 +88,7 @@ class DepthErrors:
         self.delta1 += int(np.sum(np.maximum(d / g, g / d) < 1.25))
 
     def result(self) -> dict:
+        """``depth_absrel``, ``depth_rmse`` (metres), ``depth_delta1`` and ``depth_pixels``; NaN without pixels."""
         n = max(self.n, 1)
         nan = float("nan")
         return {"depth_absrel": self.absrel / n if self.n else nan, "depth_rmse": float(np.sqrt(self.sq / n)) if self.n else nan,
@@ -102,10 +104,12 @@ class Evaluation:
         self.num_classes = num_classes
 
     def update(self, gt_semantic, pred_semantic, gt_depth, pred_depth) -> None:
+        """Add one batch: semantic labels to the confusion matrix, depth maps to the depth errors."""
         self.conf += confusion_matrix(gt_semantic, pred_semantic, self.num_classes)
         self.depth.update(gt_depth, pred_depth)
 
     def result(self) -> dict:
+        """The segmentation metrics (``segmentation_metrics``) and depth errors so far, in one dict."""
         return {**segmentation_metrics(self.conf), **self.depth.result()}
 
 

@@ -31,6 +31,7 @@ import torch
 import torch.nn.functional as F
 from torch import nn
 
+from objsearch.configs import JsonConfig
 from objsearch.errors import UserError
 from objsearch.house.categories import CATEGORY_IDS
 
@@ -40,8 +41,11 @@ MODEL_VERSION = "seg-depth-v1"
 
 
 @dataclass(frozen=True)
-class ModelConfig:
-    """Widths of the network. Stored in every checkpoint."""
+class ModelConfig(JsonConfig):
+    """Widths of the network. Stored in every checkpoint (``objsearch.configs.JsonConfig``)."""
+
+    DESCRIPTION = "a perception model config"
+    LEGACY_KEYS = {}  # no field has been renamed or removed since the shipped checkpoint
 
     stem: int = 32
     """Channels of the stem and layer1 (stride 2)."""
@@ -69,16 +73,6 @@ class ModelConfig:
         if self.num_classes != NUM_CLASSES:
             raise UserError(f"num_classes={self.num_classes} does not match the category table ({NUM_CLASSES} ids)")
 
-    def to_json(self) -> dict:
-        return dataclasses.asdict(self) | {"aspp_rates": list(self.aspp_rates)}
-
-    @classmethod
-    def from_json(cls, data: dict) -> "ModelConfig":
-        known = {f.name for f in dataclasses.fields(cls)}
-        if set(data) - known:
-            raise UserError(f"unknown model config fields {sorted(set(data) - known)}; known: {sorted(known)}")
-        return cls(**data)
-
 
 def _conv_bn(cin: int, cout: int, k: int = 3, stride: int = 1, dilation: int = 1) -> nn.Sequential:
     pad = dilation * (k - 1) // 2
@@ -100,6 +94,7 @@ class ResidualBlock(nn.Module):
             self.shortcut = nn.Sequential(nn.Conv2d(cin, cout, 1, stride, bias=False), nn.BatchNorm2d(cout))
 
     def forward(self, x: torch.Tensor) -> torch.Tensor:
+        """relu(conv-bn-relu-conv-bn(x) + shortcut(x))."""
         y = F.relu(self.bn1(self.conv1(x)), inplace=True)
         return F.relu(self.bn2(self.conv2(y)) + self.shortcut(x), inplace=True)
 
@@ -114,6 +109,7 @@ class ASPP(nn.Module):
         self.project = _conv_bn(cout * (len(rates) + 2), cout, 1)
 
     def forward(self, x: torch.Tensor) -> torch.Tensor:
+        """The concatenated atrous branches and image pooling of ``x``, projected."""
         outs = [branch(x) for branch in self.branches]
         outs.append(self.pool(x).expand(-1, -1, x.shape[2], x.shape[3]))
         return self.project(torch.cat(outs, dim=1))
@@ -142,6 +138,10 @@ class SegDepthNet(nn.Module):
         nn.init.constant_(self.depth_head.bias, 1.0)  # exp(1) ~ 2.7 m: a typical indoor depth
 
     def forward(self, x: torch.Tensor) -> tuple[torch.Tensor, torch.Tensor]:
+        """Class logits (N, C, H, W) and log depth (N, H, W) of an RGB batch (N, 3, H, W) in [0, 1].
+
+        Raises ValueError if H or W is not a multiple of 8.
+        """
         h, w = x.shape[-2:]
         if h % 8 or w % 8:
             raise ValueError(f"input size {h}x{w} must be a multiple of 8")
@@ -177,4 +177,5 @@ def pick_device(name: str = "auto") -> torch.device:
 
 
 def count_parameters(model: nn.Module) -> int:
+    """Number of parameters (elements) of ``model``."""
     return sum(p.numel() for p in model.parameters())

@@ -33,6 +33,7 @@ from objsearch.perception.config import TrainConfig
 from objsearch.perception.dataset import load_split, read_manifest
 from objsearch.perception.inference import Predictor, evaluate, save_checkpoint
 from objsearch.perception.model import NUM_CLASSES, SegDepthNet, pick_device
+from objsearch.sim.camera import RenderSettings
 
 CONFIG_FILE, MODEL_FILE, STATE_FILE, LOG_FILE = "config.json", "model.pt", "state.pt", "log.csv"
 LOG_FIELDS = ["step", "epoch", "lr", "loss", "seg_loss", "depth_loss", "wall_s", "val_miou", "val_absrel", "val_pixel_acc"]
@@ -76,6 +77,7 @@ def augment(rgb: torch.Tensor, semantic: torch.Tensor, depth: torch.Tensor, gene
 
 
 def learning_rate(config: TrainConfig, step: int) -> float:
+    """The learning rate at ``step``: linear warm-up over ``warmup_steps``, then decay to 0 with power ``lr_power``."""
     if step < config.warmup_steps:
         return config.lr * (step + 1) / config.warmup_steps
     return config.lr * (1.0 - step / config.steps) ** config.lr_power
@@ -90,7 +92,8 @@ class TrainRun:
             torch.set_num_threads(config.threads)
         self.device = pick_device(config.device)
         manifest = read_manifest(config.data)
-        self.settings = manifest["settings"]
+        # the camera of the frames
+        self.settings = RenderSettings.from_json(manifest["settings"], source=Path(config.data) / "manifest.json")
         train = load_split(config.data, "train", config.max_train_frames or None)
         if len(train) < config.batch_size:
             raise UserError(f"{len(train)} training frames in {config.data} are fewer than batch_size={config.batch_size}")
@@ -113,11 +116,13 @@ class TrainRun:
             torchfile.resume(state_path, config, self.load_state_dict, expected="the state.pt of a perception training run")
 
     def load_state_dict(self, state: dict) -> None:
+        """Restore the model, optimizer, step, wall time and log rows from a ``state.pt`` dict."""
         self.model.load_state_dict(state["model"])
         self.optimizer.load_state_dict(state["optimizer"])
         self.step, self.wall_s, self.rows = state["step"], state["wall_s"], list(state["rows"])
 
     def batch_indices(self, step: int) -> np.ndarray:
+        """Training-frame indices (batch_size,) of ``step``: a slice of its epoch's permutation."""
         epoch, i = divmod(step, self.steps_per_epoch)
         if epoch != self._perm_epoch:
             self._perm = np.random.default_rng([self.config.seed, epoch]).permutation(len(self.rgb))
@@ -126,6 +131,10 @@ class TrainRun:
         return self._perm[i * b : (i + 1) * b]
 
     def train_step(self) -> dict:
+        """One optimizer step on the next batch (augmented if configured); advances ``step``.
+
+        Returns the step's ``loss``, ``seg_loss``, ``depth_loss`` and ``lr``.
+        """
         c = self.config
         idx = torch.from_numpy(self.batch_indices(self.step)).to(self.device)
         rgb = self.rgb[idx].permute(0, 3, 1, 2).float().div_(255.0)
@@ -139,7 +148,7 @@ class TrainRun:
         self.model.train()
         logits, log_depth = self.model(rgb)
         seg_loss = F.cross_entropy(logits, semantic, weight=self.weights)
-        valid = (depth > 0) & (depth < self.settings["zfar"])
+        valid = (depth > 0) & (depth < self.settings.zfar)
         depth_loss = (log_depth - depth.clamp(min=1e-3).log()).abs()[valid].mean() if valid.any() else log_depth.sum() * 0
         loss = seg_loss + c.depth_weight * depth_loss
         self.optimizer.zero_grad(set_to_none=True)
@@ -149,6 +158,7 @@ class TrainRun:
         return {"loss": loss.item(), "seg_loss": seg_loss.item(), "depth_loss": depth_loss.item(), "lr": lr}
 
     def validate(self) -> dict:
+        """Validation ``val_miou``, ``val_absrel``, ``val_pixel_acc`` (rounded to 4 places); {} without a val split."""
         if self.val is None:
             return {}
         result = evaluate(Predictor(self.model, self.settings, key="training", device=self.device), self.val)
@@ -157,6 +167,7 @@ class TrainRun:
                 "val_pixel_acc": round(result["pixel_accuracy"], 4)}
 
     def log_row(self, extra: dict) -> dict:
+        """Append and return a log row: step, epoch, wall time, mean losses since the last row, and ``extra``."""
         window, self._window = self._window, []
         row = {"step": self.step, "epoch": round(self.step / self.steps_per_epoch, 3), "wall_s": round(self.wall_s, 1)}
         if window:
@@ -172,6 +183,7 @@ class TrainRun:
         write_csv(self.out / LOG_FILE, LOG_FIELDS, self.rows)
 
     def save(self) -> None:
+        """Write the config, the model checkpoint, ``log.csv`` and ``state.pt`` (what a resume needs) into ``out``."""
         self.out.mkdir(parents=True, exist_ok=True)
         self.config.save(self.out / CONFIG_FILE)
         save_checkpoint(self.out / MODEL_FILE, self.model, self.settings)

@@ -44,7 +44,8 @@ from tqdm import tqdm
 from objsearch.digests import sha256_file
 from objsearch.fileio import abandoned_temp_folders, atomic_directory
 from objsearch.sim.navgraph import NAVGRAPH_VERSION
-from objsearch.sim.renderer import HouseRenderer, RenderSettings
+from objsearch.sim.camera import AGENT_CAMERA, AGENT_CAMERA_NAME, RenderSettings, check_predictor_camera
+from objsearch.sim.renderer import HouseRenderer
 from objsearch.sim.world import World
 
 CACHE_VERSION = "cache-v2"  # v2: uint16 millimetre depth, file digests in meta.json
@@ -57,6 +58,7 @@ _MM = np.float32(1000)  # float32(mm) / 1000 in float32 is exactly quantize_dept
 
 
 def default_cache_dir() -> Path:
+    """The cache folder: ``$OBJSEARCH_CACHE``, else ``~/.cache/objsearch``."""
     return Path(os.environ.get("OBJSEARCH_CACHE") or Path.home() / ".cache" / "objsearch")
 
 
@@ -101,6 +103,7 @@ class MillimetreDepth(np.lib.mixins.NDArrayOperatorsMixin):
 
 
 def cache_key(world: World, settings: RenderSettings) -> str:
+    """The 16 hex digits naming a house's cache: a hash of the cache and pose-graph versions, spec hash and camera."""
     text = json.dumps([CACHE_VERSION, NAVGRAPH_VERSION, world.spec_sha256, settings.key()])
     return hashlib.sha256(text.encode()).hexdigest()[:16]
 
@@ -126,6 +129,7 @@ class HouseCache:
 
     @property
     def num_poses(self) -> int:
+        """Number of poses (frames) in the cache."""
         return len(self.semantic)
 
     @classmethod
@@ -147,7 +151,7 @@ class HouseCache:
             "house_id": world.house_id,
             "spec_sha256": world.spec_sha256,
             "navgraph": NAVGRAPH_VERSION,
-            "settings": settings.to_dict(),
+            "settings": settings.to_json(),
             "num_poses": world.graph.num_poses,
         }
         poses = world.graph.world_poses()
@@ -292,10 +296,12 @@ def locked(directory: Path):
 
 
 def folder_bytes(path: Path) -> int:
+    """Total size in bytes of the files under ``path``."""
     return sum(f.stat().st_size for f in path.rglob("*") if f.is_file())
 
 
 def format_size(size: int) -> str:
+    """``size`` bytes as whole MB (from 1 MB on) or KB, e.g. ``12 MB``."""
     return f"{size / 1e6:.0f} MB" if size >= 1e6 else f"{size / 1e3:.0f} KB"
 
 
@@ -327,6 +333,9 @@ class Predictor(Protocol):
     key: str
     """Identity of the network and its weights (part of the cache key)."""
 
+    # A predictor may also have ``settings`` (the ``RenderSettings`` of its training frames):
+    # the env and the harness then check it against their camera (``sim.camera.check_predictor_camera``).
+
     def predict(self, rgb: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """uint8 (N, H, W, 3) -> (semantic uint8 (N, H, W), depth float32 (N, H, W) metres)."""
         ...
@@ -348,11 +357,17 @@ class PredictedCache:
     @classmethod
     def open(cls, world: World, settings: RenderSettings, predictor: Predictor, cache_dir: str | Path | None = None,
              progress: bool = True) -> "PredictedCache":
-        """Open the predictions of ``predictor`` for the house, computing them if missing, stale or damaged."""
+        """Open the predictions of ``predictor`` for the house, computing them if missing, stale or damaged.
+
+        A predictor with ``settings`` must have been trained on ``settings``' frames
+        (``CameraMismatchError`` otherwise), whoever calls.
+        """
+        check_predictor_camera(predictor, settings, AGENT_CAMERA_NAME if settings == AGENT_CAMERA else
+                               f"the camera of these observations (cache key {settings.key()})")
         gt = HouseCache.open(world, settings, cache_dir, progress)
         directory = gt.directory.parent / f"{gt.directory.name}-pred-{predictor.key}"
         expected = {"version": PREDICTED_VERSION, "observations": gt.meta["key"], "predictor": predictor.key,
-                    "house_id": world.house_id, "settings": settings.to_dict(), "num_poses": gt.num_poses}
+                    "house_id": world.house_id, "settings": settings.to_json(), "num_poses": gt.num_poses}
         n, h, w = gt.semantic.shape
         layers = {"depth": (np.uint16, (n, h, w)), "semantic": (np.uint8, (n, h, w))}
 

@@ -11,9 +11,9 @@ from gymnasium import spaces
 
 from objsearch.house.categories import CATEGORY_IDS
 from objsearch.sim.cache import HouseCache, PredictedCache, Predictor, quantize_depth
+from objsearch.sim.camera import AGENT_CAMERA, RenderSettings, check_predictor_camera
 from objsearch.sim.goals import DEFAULT_RULE, GOAL_CAMERA, GoalRule, goal_poses
 from objsearch.sim.navgraph import ACTIONS, NUM_MOVE_ACTIONS, STOP
-from objsearch.sim.renderer import RenderSettings
 from objsearch.sim.world import HouseRef, World
 
 MODES = ("cached", "live")
@@ -41,6 +41,7 @@ class HouseTask:
     min_steps: int
 
     def to_json(self) -> dict:
+        """The task as a JSON dict: house, start, target, min_steps (not the goals)."""
         return {"house": self.house, "start": list(self.start), "target": self.target, "min_steps": self.min_steps}
 
 
@@ -78,11 +79,14 @@ class HouseEnv(gymnasium.Env):
     ``houses``: HouseRefs, or loaded ``World``s (envs that play side by side share them)
     (default: the house of generator seed 0). ``mode``: ``cached``
     (every pose pre-rendered, memory-mapped; ``objsearch.sim.cache``) or ``live`` (render
-    each step); both give identical observations. ``settings``: camera. ``cache_dir``.
+    each step); both give identical observations. ``settings``: the agent's camera
+    (default ``objsearch.sim.camera.AGENT_CAMERA``; goal poses always come from
+    ``objsearch.sim.goals.GOAL_CAMERA``). ``cache_dir``.
     ``goal_rule``. ``targets``: categories sampled episodes may ask for.
     ``observation``: ``gt`` (rendered ground truth) or ``predicted``: ``semantic`` and
     ``depth`` come from ``predictor`` (e.g. ``objsearch.perception.inference.Predictor``)
-    applied to the RGB, pre-computed for every pose in cached mode
+    applied to the RGB (trained on frames of ``settings``, else ``CameraMismatchError``),
+    pre-computed for every pose in cached mode
     (``objsearch.sim.cache.PredictedCache``); ``rgb`` and success stay ground truth.
 
     ## Version History
@@ -96,7 +100,7 @@ class HouseEnv(gymnasium.Env):
         self,
         houses: Sequence[HouseRef | World] | None = None,
         mode: str = "cached",
-        settings: RenderSettings = GOAL_CAMERA,
+        settings: RenderSettings = AGENT_CAMERA,
         max_steps: int = 1000,
         stop_action: bool = False,
         cache_dir: str | None = None,
@@ -112,9 +116,8 @@ class HouseEnv(gymnasium.Env):
             raise ValueError(f"observation must be one of {OBSERVATIONS}, not {observation!r}")
         if observation == "predicted" and predictor is None:
             raise ValueError("observation='predicted' needs a predictor (objsearch.perception.inference.Predictor.from_checkpoint)")
-        trained_on = getattr(predictor, "settings", None)
-        if observation == "predicted" and trained_on is not None and dict(trained_on) != settings.to_dict():
-            raise ValueError(f"the predictor was trained on frames rendered with {dict(trained_on)}, the env renders {settings.to_dict()}")
+        if observation == "predicted":
+            check_predictor_camera(predictor, settings, "this HouseEnv's camera (settings)")
         self.observation, self.predictor = observation, predictor
         self.refs = list(houses) if houses else [HouseRef(seed=0)]
         self.mode, self.settings, self.max_steps = mode, settings, int(max_steps)
@@ -229,6 +232,10 @@ class HouseEnv(gymnasium.Env):
 
     # -- gymnasium API ----------------------------------------------------------------
     def reset(self, *, seed: int | None = None, options: dict[str, Any] | None = None):
+        """Start an episode: ``options["task"]`` (a ``HouseTask``), or one sampled with the env's rng.
+
+        Returns (observation, info). Raises ValueError if the task's ``min_steps`` disagrees with the pose graph.
+        """
         super().reset(seed=seed)
         task = (options or {}).get("task") or self.sample_task(self.np_random)
         world = self.world(task.house)
@@ -250,6 +257,11 @@ class HouseEnv(gymnasium.Env):
         return self._observe(), self._info(False)
 
     def step(self, action):
+        """Take one action; returns (observation, reward, terminated, truncated, info).
+
+        The reward is 1.0 on success, else 0.0. Raises ValueError for an invalid action and RuntimeError after the
+        episode ended.
+        """
         if self._done:
             raise RuntimeError("step() called on a finished episode; call reset() first")
         action = int(action)
@@ -265,11 +277,13 @@ class HouseEnv(gymnasium.Env):
         return self._observe(), float(success), terminated, truncated, self._info(success)
 
     def render(self):
+        """The current RGB view (H, W, 3) uint8 in ``rgb_array`` mode, else None."""
         if self.render_mode == "rgb_array" and self._world is not None:
             return np.array(self._observe()["rgb"])
         return None
 
     def close(self):
+        """Close the env's frame sources (renderers, caches); the episode is over."""
         for source in self._sources.values():
             if hasattr(source, "close"):
                 source.close()
@@ -290,6 +304,7 @@ class HouseEnv(gymnasium.Env):
     # -- helpers ----------------------------------------------------------------------
     @property
     def pose(self) -> tuple[int, int, int]:
+        """The agent's current pose (row, col, heading) on the pose graph."""
         return self._world.graph.pose_of(self._pose)
 
     def _observe(self) -> dict[str, Any]:

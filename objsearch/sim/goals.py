@@ -7,8 +7,9 @@ that see the target at all. ``near_visible`` (ObjectNav-style, selectable): ever
 sees at least ``min_pixels`` target pixels closer than ``max_distance`` metres.
 
 Both are computed from frames of the goal camera, ``GOAL_CAMERA`` (independent of the
-camera an agent uses), and suites store the resulting poses, so success never drifts
-with renderer or agent settings.
+camera an agent uses, ``objsearch.sim.camera.AGENT_CAMERA``, although equal to it today),
+and suites store the resulting poses, so success never drifts with renderer or agent
+settings.
 """
 
 from __future__ import annotations
@@ -17,10 +18,16 @@ from dataclasses import asdict, dataclass
 
 import numpy as np
 
-from objsearch.sim.renderer import RenderSettings
+from objsearch.sim.camera import RenderSettings
 
 GOAL_RULE_VERSION = "goals-v1"
-GOAL_CAMERA = RenderSettings(width=64, height=64, fovy=90.0, camera_height=1.0)
+GOAL_CAMERA = RenderSettings(width=64, height=64, fovy=90.0, camera_height=1.0, znear=0.05, zfar=30.0, ceiling=True)
+"""The camera the goal rule looks through: 64 x 64, 90 degrees vertical field of view, 1 m
+above the floor. Fixed benchmark data, like ``GOAL_RULE_VERSION``: the suite files record it
+(``goal_camera``) beside the goal poses it chose, and its cache key names the goal caches.
+It does not follow the agent camera (``objsearch.sim.camera.AGENT_CAMERA``); changing it
+means rebuilding every suite file (``objsearch suite rebuild``). Every field is given, so a
+change to ``RenderSettings``' defaults leaves it alone."""
 RULES = ("top_area", "near_visible")
 
 
@@ -43,6 +50,7 @@ class GoalRule:
             raise ValueError(f"goal rule must be one of {RULES}, not {self.kind!r}")
 
     def to_json(self) -> dict:
+        """The rule as a JSON dict, with ``GOAL_RULE_VERSION``."""
         return {"version": GOAL_RULE_VERSION, **asdict(self)}
 
 

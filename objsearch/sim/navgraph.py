@@ -54,9 +54,11 @@ class PoseGraph:
 
     @property
     def num_poses(self) -> int:
+        """Number of poses: 4 headings per free cell."""
         return len(self.cells) * 4
 
     def pose_id(self, row: int, col: int, heading: int) -> int:
+        """The id of pose (row, col, heading mod 4); ValueError if the cell is not free."""
         index = int(self.cell_index[row, col]) if 0 <= row < self.rows and 0 <= col < self.cols else -1
         if index < 0:
             raise ValueError(f"cell ({row}, {col}) is not a free cell of the pose graph")
@@ -68,6 +70,7 @@ class PoseGraph:
 
     @cached_property
     def pose_tuples(self) -> list[tuple[int, int, int]]:
+        """Every pose as (row, col, heading), indexed by pose id."""
         return [(int(r), int(c), h) for r, c in self.cells.tolist() for h in range(4)]
 
     def world_poses(self, pose_ids=None) -> np.ndarray:

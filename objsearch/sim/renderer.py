@@ -30,16 +30,16 @@ cameras: houses are generated without one (so a top-down view sees in), but a ca
 It is labelled with the ``ceiling`` structure class.
 
 Threads: one renderer is one GL context; use it from one thread at a time.
+
+The camera itself is pure data: ``objsearch.sim.camera.RenderSettings`` (and
+``RENDERER_VERSION``, which cache keys hash), importable without MuJoCo.
 """
 
 from __future__ import annotations
 
 import copy
-import hashlib
-import json
 import math
-import numbers
-from dataclasses import asdict, dataclass, fields
+from dataclasses import dataclass
 
 from objsearch.sim.glbackend import RenderBackendError, check_mujoco_gl, create_gl_context
 
@@ -51,73 +51,19 @@ import numpy as np  # noqa: E402
 from objsearch.errors import UserError  # noqa: E402
 from objsearch.house.categories import BACKGROUND_ID, CATEGORY_IDS  # noqa: E402
 from objsearch.house.mjcf import geom_labels  # noqa: E402
+from objsearch.sim.camera import AGENT_CAMERA, MAX_SHEET, RENDERER_VERSION, RenderSettings  # noqa: E402, F401
 from objsearch.sim.culling import PortalCuller  # noqa: E402
 
-__all__ = ["RENDERER_VERSION", "RenderSettings", "Frames", "HouseRenderer", "RenderBackendError"]
-
-#: Bump whenever the same settings and house could give different pixels.
-RENDERER_VERSION = "house-renderer-1"
+# RenderSettings and RENDERER_VERSION live in objsearch.sim.camera (pure data, no MuJoCo);
+# they stay importable from here for existing code.
+__all__ = ["Frames", "HouseRenderer", "RenderBackendError"]
 
 CEILING_ID = CATEGORY_IDS["ceiling"]
-MAX_SHEET = 2048  # largest side of the tiled offscreen buffer, pixels
 HIDDEN_GROUP = 5  # geom group culled geoms are moved to (not drawn)
 CATEGORIES = int(mujoco.mjtCatBit.mjCAT_STATIC | mujoco.mjtCatBit.mjCAT_DYNAMIC)
 CEILING_EMISSION = 0.4
 _CEILING_RGBA = np.array([0.92, 0.91, 0.88, 1.0], np.float32)
 _EYE9 = np.eye(3).ravel()
-
-
-@dataclass(frozen=True)
-class RenderSettings:
-    """The agent camera. Part of every cache key (``key()``)."""
-
-    width: int = 64
-    """Image width in pixels."""
-    height: int = 64
-    """Image height in pixels."""
-    fovy: float = 90.0
-    """Vertical field of view in degrees; the horizontal one follows from width / height."""
-    camera_height: float = 1.0
-    """Height of the optical centre above the floor, metres."""
-    znear: float = 0.05
-    """Near clipping distance, metres (the agent's radius is 0.2 m)."""
-    zfar: float = 30.0
-    """Far clipping distance, metres; also the depth of pixels that see nothing."""
-    ceiling: bool = True
-    """Close the rooms with a ceiling (category ``ceiling``) at the top of the walls."""
-
-    def __post_init__(self):
-        if not all(isinstance(v, numbers.Integral) and 1 <= v <= MAX_SHEET for v in (self.width, self.height)):
-            raise UserError(f"render size {self.width}x{self.height} must be integers in 1..{MAX_SHEET}")
-        for name, kind in (("width", int), ("height", int), ("fovy", float), ("camera_height", float), ("znear", float),
-                           ("zfar", float), ("ceiling", bool)):
-            object.__setattr__(self, name, kind(getattr(self, name)))  # plain Python types: JSON, stable keys
-        if not 1.0 <= self.fovy <= 170.0:
-            raise UserError(f"fovy={self.fovy} must be in [1, 170] degrees")
-        if not 0.0 < self.znear < self.zfar:
-            raise UserError(f"need 0 < znear < zfar, got znear={self.znear}, zfar={self.zfar}")
-
-    def to_dict(self) -> dict:
-        """The settings as JSON-ready data (plain ints, floats and bools)."""
-        return asdict(self)
-
-    def to_json(self) -> str:
-        """The settings as JSON text, keys sorted."""
-        return json.dumps(self.to_dict(), sort_keys=True)
-
-    @classmethod
-    def from_json(cls, data: str | dict) -> "RenderSettings":
-        """Settings from ``to_json()`` text or ``to_dict()`` data; unknown keys are an error."""
-        data = json.loads(data) if isinstance(data, str) else dict(data)
-        known = {f.name for f in fields(cls)}
-        if set(data) - known:
-            raise UserError(f"unknown render settings {sorted(set(data) - known)}; known: {sorted(known)}")
-        return cls(**data)
-
-    def key(self) -> str:
-        """A short stable hash of the settings and ``RENDERER_VERSION`` (cache keys use it)."""
-        text = json.dumps([RENDERER_VERSION, self.to_dict()], sort_keys=True)
-        return hashlib.sha256(text.encode()).hexdigest()[:16]
 
 
 @dataclass
@@ -161,7 +107,7 @@ class HouseRenderer:
     Args:
         model: The compiled house (``GeneratedHouse.model``); it is not modified (the
             renderer keeps a copy).
-        settings: The agent camera.
+        settings: The camera (default ``objsearch.sim.camera.AGENT_CAMERA``).
         cull: Draw only geoms that may be visible (``objsearch.sim.culling``); the images
             are identical either way. Off only to measure what it buys.
         tiles_per_read: Poses drawn side by side before one ``mjr_readPixels`` (default 1).
@@ -174,7 +120,7 @@ class HouseRenderer:
         RenderBackendError: No OpenGL backend works (see ``objsearch.sim.glbackend``).
     """
 
-    def __init__(self, model: mujoco.MjModel, settings: RenderSettings = RenderSettings(), *, cull: bool = True,
+    def __init__(self, model: mujoco.MjModel, settings: RenderSettings = AGENT_CAMERA, *, cull: bool = True,
                  tiles_per_read: int = 1):
         self._gl = None
         self._con = None

@@ -140,10 +140,12 @@ def load_houses(suite: dict) -> dict[str, World]:
 
 
 def house_refs(suite: dict) -> list[HouseRef]:
+    """The ``HouseRef`` of every evaluation house of a suite dict."""
     return [HouseRef(**info) for info in suite["houses"].values()]
 
 
 def episode_task(suite: dict, item: dict) -> HouseTask:
+    """The ``HouseTask`` of one split entry ``item`` of a suite dict, with its goal poses."""
     goals = suite["goals"][item["house"]][item["target"]]
     return HouseTask(
         house=item["house"],
@@ -223,7 +225,7 @@ def _suite_record(name: str, version: str, categories: dict, houses: dict, train
         "version": version,
         "navgraph": NAVGRAPH_VERSION,
         "goal_rule": DEFAULT_RULE.to_json(),
-        "goal_camera": GOAL_CAMERA.to_dict(),
+        "goal_camera": GOAL_CAMERA.to_json(),
         "start_steps": list(START_STEPS),
         "max_steps": MAX_STEPS,
         "categories": categories,

@@ -89,6 +89,7 @@ class HouseVectorEnv(gymnasium.vector.VectorEnv):
         return obs
 
     def reset(self, *, seed: int | None = None, options: dict | None = None):
+        """Start a sampled task in every env (``seed`` reseeds the task rng); returns (obs, {})."""
         if seed is not None:
             self._rng = np.random.default_rng(seed)
         for i in range(self.num_envs):
@@ -96,6 +97,11 @@ class HouseVectorEnv(gymnasium.vector.VectorEnv):
         return self._observe(), {}
 
     def step(self, actions):
+        """Step every env; returns (obs, reward, terminated, truncated, info) arrays of shape (num_envs,).
+
+        An env ends on reaching a goal pose (success, reward 1.0) or at ``max_steps``, and restarts at once with a new
+        task; ``info`` holds ``success``, ``steps`` and ``min_steps`` of the step taken.
+        """
         actions = np.asarray(actions, dtype=np.int64)
         success = np.zeros(self.num_envs, dtype=bool)
         for h in np.unique(self.house):
@@ -112,4 +118,5 @@ class HouseVectorEnv(gymnasium.vector.VectorEnv):
         return self._observe(), success.astype(np.float32), success, truncated, info
 
     def close_extras(self, **kwargs):
+        """Close the wrapped ``HouseEnv``."""
         self.env.close()

@@ -8,6 +8,7 @@ written by ``objsearch generate``.
 from __future__ import annotations
 
 import hashlib
+import json
 from dataclasses import dataclass
 from functools import cached_property
 from pathlib import Path
@@ -21,7 +22,7 @@ from objsearch.sim.navgraph import PoseGraph, build_pose_graph
 
 def spec_hash(spec: HouseSpec) -> str:
     """sha256 of the canonical spec JSON: the identity of a house's content."""
-    return hashlib.sha256(spec.to_json().encode()).hexdigest()
+    return hashlib.sha256(spec.to_json_text().encode()).hexdigest()
 
 
 @dataclass(frozen=True)
@@ -41,6 +42,7 @@ class HouseRef:
     spec_sha256: str | None = None
 
     def to_json(self) -> dict:
+        """The reference as a JSON dict, without its unset (None) fields."""
         return {k: v for k, v in self.__dict__.items() if v is not None}
 
 
@@ -53,10 +55,14 @@ class World:
 
     @classmethod
     def load(cls, ref: HouseRef) -> "World":
+        """Load the house ``ref`` names: from its directory, or regenerated from its seed.
+
+        Raises ``UserError`` if the directory cannot be read or the spec no longer hashes to ``ref.spec_sha256``.
+        """
         if ref.path is not None:
             directory = Path(ref.path)
             try:
-                spec = HouseSpec.from_json((directory / "spec.json").read_text())
+                spec = HouseSpec.from_json(json.loads((directory / "spec.json").read_text()), directory / "spec.json")
                 model = mujoco.MjModel.from_xml_path(str(directory / "house.xml"))
             except (OSError, ValueError) as err:
                 raise UserError(f"cannot load house {directory}: {err}; expected a folder written by objsearch generate") from None
@@ -75,14 +81,17 @@ class World:
 
     @property
     def house_id(self) -> str:
+        """The house's id (from its spec)."""
         return self.spec.house_id
 
     @cached_property
     def spec_sha256(self) -> str:
+        """sha256 of the house's canonical spec JSON (``spec_hash``)."""
         return spec_hash(self.spec)
 
     @property
     def model(self) -> mujoco.MjModel:
+        """The house's compiled ``MjModel``, compiled from the spec on first use."""
         if self._model is None:
             from objsearch.house.mjcf import compile_house
 
@@ -91,4 +100,5 @@ class World:
 
     @cached_property
     def graph(self) -> PoseGraph:
+        """The house's pose graph, built from the spec on first use."""
         return build_pose_graph(self.spec)

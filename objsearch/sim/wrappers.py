@@ -28,6 +28,7 @@ class TargetMaskDepth(gymnasium.ObservationWrapper):
         self.observation_space = spaces.Box(np.zeros_like(high), high, dtype=np.float32)
 
     def observation(self, observation):
+        """The (2, size, size) float32 target-fraction and depth channels of ``observation``."""
         mask = (np.asarray(observation[self.semantic_key]) == observation["target"]).astype(np.float32)
         depth = np.asarray(observation["depth"], dtype=np.float32)
         shape = (self.size, self.size)
@@ -52,11 +53,13 @@ class FrameHistory(gymnasium.Wrapper):
         self._frames: deque = deque(maxlen=k)
 
     def reset(self, **kwargs):
+        """Reset the env and fill the history with the first observation; returns ((k, ...) stack, info)."""
         obs, info = self.env.reset(**kwargs)
         self._frames.extend([obs] * self.k)
         return np.stack(self._frames), info
 
     def step(self, action):
+        """Step the env and push the observation; returns the (k, ...) stack with the env's other results."""
         obs, reward, terminated, truncated, info = self.env.step(action)
         self._frames.append(obs)
         return np.stack(self._frames), reward, terminated, truncated, info

@@ -5,7 +5,8 @@ import numpy as np
 import pytest
 
 from objsearch_agents.grg import GoalsRelationalGraph
-from objsearch_agents.grg_plot import CHAINS, chain_recovery, main
+from objsearch.cli import main
+from objsearch_agents.grg_plot import CHAINS, chain_recovery
 
 
 def chain_graph() -> GoalsRelationalGraph:
@@ -31,11 +32,38 @@ def test_chain_recovery_of_a_chain_graph_and_of_random_weights():
 
 def test_plot_writes_a_png(tmp_path, capsys):
     chain_graph().save(tmp_path / "grg.npz")
-    assert main([str(tmp_path), "--out", str(tmp_path / "grg.png")]) == 0
+    assert main(["plot", "grg", str(tmp_path), "--out", str(tmp_path / "grg.png")]) == 0
     image = cv2.imread(str(tmp_path / "grg.png"))
     assert image.shape == (640, 640, 3) and (image < 250).any()
     assert "chain recovery 100%" in capsys.readouterr().out
-    assert main([str(tmp_path / "missing"), "--out", str(tmp_path / "x.png")]) == 2
+
+
+def test_plot_of_the_shipped_house_checkpoint_is_figure_5(tmp_path, capsys):
+    """One command for both worlds: a house GRG is told by its nodes and drawn with its edge list."""
+    out = tmp_path / "house.png"
+    checkpoint = Path(__file__).resolve().parents[2] / "agents" / "checkpoints" / "house-single" / "hrl_grg"
+    assert main(["plot", "grg", str(checkpoint), "--out", str(out), "--edges", "6"]) == 0
+    image = cv2.imread(str(out))
+    assert image.shape == (720, 720, 3) and (image < 250).any()
+    lines = capsys.readouterr().out.splitlines()
+    assert lines[-1] == f"wrote {out}" and 1 <= len(lines) - 1 <= 6 and " -> " in lines[0]
+
+
+@pytest.mark.parametrize("args, needle", [
+    (["{tmp}/missing"], "no GRG at {tmp}/missing"),
+    (["{tmp}/bad.npz"], "cannot read GRG file {tmp}/bad.npz"),
+    (["{tmp}", "--world", "house"], "holds a gridworld GRG, not a house one"),
+    (["{tmp}", "--edges", "3"], "--edges applies to house GRGs"),
+    (["{tmp}", "--out", "{tmp}/grg.jpg"], "--out {tmp}/grg.jpg: the figure is a PNG"),
+])
+def test_plot_refuses_bad_input_naming_it(tmp_path, capsys, args, needle):
+    chain_graph().save(tmp_path / "grg.npz")
+    (tmp_path / "bad.npz").write_bytes(b"not an npz")
+    args = [a.format(tmp=tmp_path) for a in args]
+    out = [] if "--out" in args else ["--out", str(tmp_path / "x.png")]
+    assert main(["plot", "grg", *args, *out]) == 2
+    assert needle.format(tmp=tmp_path) in capsys.readouterr().err
+    assert not list(tmp_path.glob("x.png")) and not list(tmp_path.glob("*.jpg"))
 
 
 def test_shipped_hrl_grg_graph_recovers_the_goal_chains():

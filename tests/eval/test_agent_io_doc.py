@@ -1,11 +1,13 @@
-"""docs/add_your_agent.md's "Actions and observations" is the one the envs render."""
+"""docs/add_your_agent.md's "Actions and observations" is the one the envs render
+(``objsearch data rebuild agent-io-doc [--check]`` rewrites or checks it)."""
 
+from objsearch.cli import main
 from objsearch.eval import agent_io
 
 
 def test_the_docs_section_is_what_the_envs_render():
     assert agent_io.doc_section(agent_io.DOC.read_text()) == agent_io.render(), \
-        "docs/add_your_agent.md is stale: run python -m objsearch.eval.agent_io"
+        f"docs/add_your_agent.md is stale: run {agent_io.COMMAND}"
 
 
 def test_the_section_names_every_action_and_observation_key():
@@ -18,6 +20,8 @@ def test_check_fails_on_a_stale_doc(tmp_path, monkeypatch, capsys):
     stale = tmp_path / "doc.md"
     stale.write_text(agent_io.DOC.read_text().replace("| 0 | up |", "| 0 | north |"))
     monkeypatch.setattr(agent_io, "DOC", stale)
-    assert agent_io.main(["--check"]) == 1 and "stale" in capsys.readouterr().err
-    assert agent_io.main([]) == 0 and agent_io.main(["--check"]) == 0
+    assert main(["data", "rebuild", "agent-io-doc", "--check"]) == 1
+    assert f"stale; run {agent_io.COMMAND}" in capsys.readouterr().err
+    assert main(["data", "rebuild", "agent-io-doc"]) == 0 and main(["data", "rebuild", "agent-io-doc", "--check"]) == 0
     assert stale.read_text() == agent_io.DOC.read_text().replace("| 0 | north |", "| 0 | up |")
+

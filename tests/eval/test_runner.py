@@ -2,7 +2,9 @@ import numpy as np
 import pytest
 
 from objsearch.errors import UserError
-from objsearch.eval.runner import EvalConfig, episode_rng, evaluate
+from objsearch.eval.config import EvalConfig
+from objsearch.eval.episode import episode_rng
+from objsearch.eval.runner import evaluate
 from objsearch.gridworld import dataset
 from objsearch.gridworld.maps import save_map
 from objsearch.gridworld.tasks import save_tasks

@@ -67,7 +67,7 @@ def test_workers_die_with_the_evaluation(tmp_path, sig):
         time.sleep(3)  # the workers build their agents and play
         assert all(map(alive, started))
         parent.send_signal(sig)
-        assert wait_for(lambda: not any(map(alive, started)), 10), "workers outlived the evaluation"
+        assert wait_for(lambda: not any(map(alive, started)), 30), "workers outlived the evaluation"
         assert parent.wait(30) != 0
     finally:
         parent.kill()

@@ -31,11 +31,14 @@ def test_every_category_has_three_distinct_variants_and_a_test_one():
             assert all("surface" in e for e in entries.values())
 
 
-def test_asset_build_is_deterministic(tmp_path):
-    assets.build_assets(tmp_path)
+def test_asset_build_is_deterministic(tmp_path, capsys):
+    from objsearch.cli import main
+
+    assert main(["data", "rebuild", "assets", "--out", str(tmp_path)]) == 0
+    assert f"under {tmp_path / 'meshes'}" in capsys.readouterr().err
     for path in sorted((tmp_path / "meshes").rglob("*")):
         if path.is_file():
             rel = path.relative_to(tmp_path)
-            assert path.read_bytes() == (assets.assets_dir() / rel).read_bytes(), f"{rel} differs: rebuild with python -m objsearch.house.assets"
+            assert path.read_bytes() == (assets.assets_dir() / rel).read_bytes(), f"{rel} differs: rebuild with objsearch data rebuild assets"
     total = sum(p.stat().st_size for p in (assets.assets_dir() / "meshes").rglob("*") if p.is_file())
     assert total < 5_000_000

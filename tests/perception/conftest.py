@@ -1,7 +1,7 @@
 import pytest
 import torch
 
-from objsearch.sim.renderer import RenderSettings
+from objsearch.sim.camera import RenderSettings
 
 LOW_RES = RenderSettings(width=32, height=32)
 

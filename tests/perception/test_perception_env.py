@@ -9,7 +9,7 @@ from objsearch.perception.model import ModelConfig, SegDepthNet
 from objsearch.perception.train import init_weights
 from objsearch.sim.cache import HouseCache, PredictedCache, quantize_depth
 from objsearch.sim.env import HouseEnv, HouseTask
-from objsearch.sim.renderer import RenderSettings
+from objsearch.sim.camera import CameraMismatchError, RenderSettings
 from objsearch.sim.world import HouseRef, World
 
 TINY_MODEL = ModelConfig(stem=16, mid=32, deep=48, aspp=32, aspp_rates=(2, 4), skip=16, decoder=32)  # trains in seconds
@@ -22,7 +22,7 @@ def predictor(tmp_path_factory):
     model = SegDepthNet(TINY_MODEL)
     init_weights(model, torch.Generator().manual_seed(0))
     path = tmp_path_factory.mktemp("ckpt") / "model.pt"
-    save_checkpoint(path, model, CAMERA.to_dict())
+    save_checkpoint(path, model, CAMERA)
     return Predictor.from_checkpoint(path, device="cpu")
 
 
@@ -80,7 +80,8 @@ def test_gt_stays_the_default_and_bad_arguments_are_refused(predictor):
         HouseEnv([HOUSE], observation="predicted")
     with pytest.raises(ValueError, match="observation must be one of"):
         HouseEnv([HOUSE], observation="learned", predictor=predictor)
-    with pytest.raises(ValueError, match="trained on frames"):  # the default camera is 64x64, the network's 32x32
+    # the default camera is 64x64, the network's 32x32: one error, naming the checkpoint, both cameras and the fix
+    with pytest.raises(CameraMismatchError, match=r"model.pt was made for camera \[width=32 .*\[width=64 .*they differ in width, height"):
         HouseEnv([HOUSE], observation="predicted", predictor=predictor)
 
 

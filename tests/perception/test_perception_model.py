@@ -7,6 +7,7 @@ from objsearch.house.categories import CATEGORY_IDS, CATEGORY_NAMES, FIRST_OBJEC
 from objsearch.perception.inference import Predictor, checkpoint_key, load_checkpoint, save_checkpoint
 from objsearch.perception.model import NUM_CLASSES, ModelConfig, SegDepthNet, depth_from_log
 from objsearch.perception.train import init_weights
+from objsearch.sim.camera import RenderSettings
 from objsearch.sim.env import NUM_CATEGORY_IDS
 
 
@@ -38,8 +39,7 @@ def test_predicted_labels_are_category_ids_and_depth_is_in_range(tmp_path):
     with torch.no_grad():  # make channel `sofa` win everywhere: channel index == category id
         model.seg_head.bias.zero_()
         model.seg_head.bias[4 * sofa : 4 * sofa + 4] = 100.0  # pixel shuffle: channel c*4+k -> class c
-    settings = {"znear": 0.05, "zfar": 30.0, "width": 32, "height": 32}
-    predictor = Predictor(model, settings, key="k", device="cpu")
+    predictor = Predictor(model, RenderSettings(width=32, height=32), key="k", device="cpu")
     rgb = np.random.default_rng(0).integers(0, 256, (3, 32, 32, 3), dtype=np.uint8)
     semantic, depth = predictor.predict(rgb)
     assert semantic.dtype == np.uint8 and semantic.shape == (3, 32, 32) and (semantic == sofa).all()
@@ -51,13 +51,16 @@ def test_predicted_labels_are_category_ids_and_depth_is_in_range(tmp_path):
 def test_checkpoint_round_trip_and_key(tmp_path):
     model = SegDepthNet(TINY_MODEL)
     init_weights(model, torch.Generator().manual_seed(1))
-    save_checkpoint(tmp_path / "model.pt", model, {"width": 32, "height": 32, "znear": 0.05, "zfar": 30.0})
+    camera = RenderSettings(width=32, height=32)
+    save_checkpoint(tmp_path / "model.pt", model, camera)
     predictor = Predictor.from_checkpoint(tmp_path / "model.pt", device="cpu")
     assert predictor.model.config == TINY_MODEL
+    assert predictor.settings == camera and predictor.checkpoint == str(tmp_path / "model.pt")  # a RenderSettings, not a dict
+    assert load_checkpoint(tmp_path / "model.pt")["settings"] == camera.to_json()  # what the file holds: plain data
     assert predictor.key == checkpoint_key(load_checkpoint(tmp_path / "model.pt"))
     with torch.no_grad():
         model.depth_head.bias += 1.0
-    save_checkpoint(tmp_path / "other.pt", model, {"width": 32, "height": 32, "znear": 0.05, "zfar": 30.0})
+    save_checkpoint(tmp_path / "other.pt", model, camera)
     assert Predictor.from_checkpoint(tmp_path / "other.pt").key != predictor.key  # new weights, new key
     (tmp_path / "bad.pt").write_bytes(b"not a checkpoint")
     with pytest.raises(UserError, match="bad.pt"):

@@ -5,12 +5,12 @@ import json
 
 from objsearch.perception.dataset import build_dataset, load_split
 from objsearch.perception.inference import SHIPPED_CHECKPOINT, Predictor, evaluate
-from objsearch.sim.goals import GOAL_CAMERA
+from objsearch.sim.camera import AGENT_CAMERA
 
 
 def test_shipped_checkpoint_is_the_default_and_matches_its_files():
     predictor = Predictor.from_checkpoint(device="cpu")
-    assert predictor.settings == GOAL_CAMERA.to_dict()  # the agent camera the house suites use
+    assert predictor.settings == AGENT_CAMERA  # the camera the house suites' agents see
     folder = SHIPPED_CHECKPOINT.parent
     recorded = json.loads((folder / "eval_test.json").read_text())
     assert recorded["checkpoint_key"] == predictor.key  # the evaluation describes these weights

@@ -12,7 +12,8 @@ import pytest
 
 from objsearch.cli import main
 from objsearch.sim.cache import HouseCache, check_folder, depth_to_mm, quantize_depth
-from objsearch.sim.renderer import HouseRenderer, RenderSettings
+from objsearch.sim.camera import RenderSettings
+from objsearch.sim.renderer import HouseRenderer
 
 SMALL = RenderSettings(width=16, height=16)
 
@@ -131,7 +132,7 @@ def test_a_build_removes_temp_folders_of_killed_builds(small_world, tmp_path):
 BUILD = """
 import sys
 from objsearch.sim.cache import HouseCache
-from objsearch.sim.renderer import RenderSettings
+from objsearch.sim.camera import RenderSettings
 from objsearch.sim.world import HouseRef, World
 HouseCache.open(World.load(HouseRef(seed=3)), RenderSettings(width=16, height=16), sys.argv[1], progress=False)
 """

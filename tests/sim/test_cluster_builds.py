@@ -13,8 +13,8 @@ from objsearch.perception.dataset import build_dataset
 from objsearch.perception.inference import save_checkpoint
 from objsearch.perception.model import ModelConfig, SegDepthNet
 from objsearch.perception.train import init_weights
-from objsearch.sim.cli import build_caches
-from objsearch.sim.renderer import RenderSettings
+from objsearch.perception.cache_cli import build_caches
+from objsearch.sim.camera import RenderSettings
 
 CAMERA = RenderSettings(width=32, height=32)  # low resolution: fast
 TINY_MODEL = ModelConfig(stem=16, mid=32, deep=48, aspp=32, aspp_rates=(2, 4), skip=16, decoder=32)
@@ -35,7 +35,7 @@ def file_bytes(root: Path) -> dict[str, bytes]:
 def test_cache_build_on_ray_is_the_local_build(local_ray, small_house, small_world, tmp_path):
     model = SegDepthNet(TINY_MODEL)
     init_weights(model, torch.Generator().manual_seed(0))
-    save_checkpoint(tmp_path / "model.pt", model, CAMERA.to_dict())
+    save_checkpoint(tmp_path / "model.pt", model, CAMERA)
     houses = {small_world.house_id: small_house.to_json()}
     builds = {executor: build_caches(houses, tmp_path / executor, CAMERA, tmp_path / "model.pt", executor=executor,
                                      progress=False)

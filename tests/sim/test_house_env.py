@@ -169,7 +169,7 @@ def test_batched_vector_env(cache_dir, small_house):
 
 def test_cache_is_keyed_and_rebuilt_when_stale(small_world, tmp_path):
     from objsearch.sim.cache import HouseCache
-    from objsearch.sim.renderer import RenderSettings
+    from objsearch.sim.camera import RenderSettings
 
     small = RenderSettings(width=16, height=16)
     cache = HouseCache.open(small_world, small, tmp_path, progress=False)

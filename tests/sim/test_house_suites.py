@@ -1,5 +1,7 @@
 """The house suites through the harness: fixed files, oracle perfect, random far below."""
 
+from dataclasses import replace
+
 import numpy as np
 import pytest
 
@@ -7,6 +9,7 @@ from objsearch.eval.runner import EvalConfig, evaluate
 from objsearch.eval.suites import make_suite
 from objsearch.house.categories import CATEGORY_IDS
 from objsearch.sim.cache import HouseCache
+from objsearch.sim.camera import AGENT_CAMERA, CameraMismatchError
 from objsearch.sim.env import START_STEPS
 from objsearch.sim.goals import GOAL_CAMERA, goal_poses
 from objsearch.sim.suites import load_suite_file
@@ -63,7 +66,7 @@ def test_goal_rule_golden_values(cache_dir):
 
 def test_video_writes_map_and_mp4(tmp_path):
     config = EvalConfig(agent="oracle", suite="house-single", splits=("seen-goals",), seeds=(1,), suite_config={"mode": "live"})
-    from objsearch.eval.runner import Worker
+    from objsearch.eval.worker import Worker
 
     worker = Worker(config, video_dir=str(tmp_path))
     record = worker.run("seen-goals", 1, 0)
@@ -101,7 +104,7 @@ def test_predicted_observations_through_the_harness(cache_dir, tmp_path):
     model = SegDepthNet(ModelConfig(stem=8, mid=8, deep=8, aspp=8, aspp_rates=(2,), skip=8, decoder=8))
     init_weights(model, torch.Generator().manual_seed(0))
     path = tmp_path / "model.pt"
-    save_checkpoint(path, model, GOAL_CAMERA.to_dict())
+    save_checkpoint(path, model, AGENT_CAMERA)
     key = Predictor.from_checkpoint(path).key
     suite_config = {"mode": "cached", "cache_dir": cache_dir, "observation": "predicted", "perception": str(path)}
     config = EvalConfig(agent="random", suite="house-single", splits=("seen-goals",), seeds=(1,), suite_config=suite_config)
@@ -117,7 +120,7 @@ def test_predicted_observations_through_the_harness(cache_dir, tmp_path):
     episode = suite.episodes("seen-goals")[0]
     obs, info = env.reset(options={"task": episode.task})
     world = suite.worlds[episode.task.house]
-    predicted = PredictedCache.open(world, GOAL_CAMERA, suite.predictor, cache_dir, progress=False)
+    predicted = PredictedCache.open(world, AGENT_CAMERA, suite.predictor, cache_dir, progress=False)
     pose = world.graph.pose_id(*info["pose"])
     assert np.array_equal(obs["semantic"], predicted.semantic[pose]) and np.array_equal(obs["depth"], predicted.depth[pose])
     with pytest.raises(UserError, match="has key"):
@@ -125,8 +128,8 @@ def test_predicted_observations_through_the_harness(cache_dir, tmp_path):
     with pytest.raises(UserError, match="predicted observations only"):
         make_suite("house-single", perception=str(path))
     small = tmp_path / "small.pt"
-    save_checkpoint(small, model, {**GOAL_CAMERA.to_dict(), "width": 32, "height": 32})
-    with pytest.raises(UserError, match="camera is"):
+    save_checkpoint(small, model, replace(AGENT_CAMERA, width=32, height=32))
+    with pytest.raises(CameraMismatchError, match=r"small.pt was made for camera \[width=32 .* the agent camera .* is \[width=64 "):
         make_suite("house-single", observation="predicted", perception=str(small))
 
     from objsearch.cli import main

@@ -1,6 +1,7 @@
 """HouseRenderer: shapes, exact segmentation, depth against ray casts, batching, culling, backends."""
 
 import ctypes.util
+import json
 import math
 import os
 import subprocess
@@ -15,8 +16,9 @@ from objsearch.house.categories import BACKGROUND_ID, CATEGORY_IDS, FIRST_OBJECT
 from objsearch.house.generate import generate_house
 from objsearch.house.mjcf import geom_labels
 from objsearch.house.occupancy import occupancy_grid
+from objsearch.sim.camera import RenderSettings
 from objsearch.sim.glbackend import RenderBackendError, requested_backends
-from objsearch.sim.renderer import Frames, HouseRenderer, RenderSettings
+from objsearch.sim.renderer import Frames, HouseRenderer
 
 SIZE = 24  # tiny frames keep the module at a few seconds on llvmpipe
 
@@ -211,10 +213,15 @@ def test_settings_key_and_json():
     s = RenderSettings(width=32, height=24)
     assert s.key() == RenderSettings(width=32, height=24).key()
     assert s.key() != RenderSettings(width=32, height=24, fovy=60.0).key()
+    assert s.to_json() == {"width": 32, "height": 24, "fovy": 90.0, "camera_height": 1.0, "znear": 0.05, "zfar": 30.0,
+                           "ceiling": True}  # JSON-ready data (objsearch.configs.JsonConfig), not text
     assert RenderSettings.from_json(s.to_json()) == s
-    assert RenderSettings.from_json(s.to_dict()) == s
-    with pytest.raises(UserError, match="unknown"):
-        RenderSettings.from_json({"width": 8, "colour": "red"})
+    assert RenderSettings.from_json(json.loads(s.to_json_text())) == s  # text only at the file edge
+    assert json.loads(s.to_json_text()) == s.to_json() and list(json.loads(s.to_json_text())) == sorted(s.to_json())
+    with pytest.raises(UserError, match=r"camera.json is not camera settings \(RenderSettings\): unknown key 'colour'"):
+        RenderSettings.from_json({"width": 8, "colour": "red"}, source="camera.json")
+    with pytest.raises(UserError, match="must be an integer"):
+        RenderSettings.from_json({"width": "8"})
 
 
 def test_requested_backends():

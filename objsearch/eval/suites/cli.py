@@ -23,6 +23,7 @@ from objsearch.errors import UserError
 
 
 def add_parser(subparsers) -> None:
+    """Add ``objsearch suite`` (list, make, rebuild) to ``subparsers``."""
     from objsearch.sim.suites import EPISODES_PER_SPLIT, SUITE_NAMES
 
     parser = subparsers.add_parser("suite", help="list suites, make one from your houses, rebuild a shipped one",
@@ -59,6 +60,7 @@ def name_list(text: str) -> list[str]:
 
 
 def run_list(args: argparse.Namespace) -> int:
+    """``objsearch suite list``: print every suite's name, world and options; returns 0."""
     from objsearch.eval.suites import SUITES, suite_class
 
     for name in [*SUITES, "FILE.json"]:  # FILE.json: any suite file made by objsearch suite make
@@ -68,6 +70,7 @@ def run_list(args: argparse.Namespace) -> int:
 
 
 def run_make(args: argparse.Namespace) -> int:
+    """``objsearch suite make``: write a suite file from generated houses; ``UserError`` if ``--out`` is not .json."""
     from objsearch.sim.suites import suite_from_houses, write_suite_file
 
     if not args.out.endswith(".json"):
@@ -81,6 +84,7 @@ def run_make(args: argparse.Namespace) -> int:
 
 
 def run_rebuild(args: argparse.Namespace) -> int:
+    """``objsearch suite rebuild``: rebuild the named shipped suite files under ``objsearch/sim/data``."""
     from objsearch.sim.suites import DATA_DIR, build_suite, write_suite_file
 
     for name in args.names:

@@ -3,29 +3,101 @@ user's own maps and task file (``--maps DIR --tasks FILE``)."""
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+import json
+from dataclasses import dataclass, field
 from functools import cached_property
 from pathlib import Path
+from typing import Any
 
+import numpy as np
 
 from objsearch.eval.suites import Episode
 from objsearch.gridworld import dataset
-from objsearch.gridworld.batched import GridTables
+from objsearch.gridworld.batched import BatchedGridWorld, GridTables
 from objsearch.gridworld.env import GridWorldEnv
-from objsearch.gridworld.maps import GridMap, load_map_dir, shortest_path_actions
+from objsearch.gridworld.maps import MOVES, GridMap, load_map_dir, shortest_path_actions
 from objsearch.gridworld.tasks import GridTask, load_tasks
 from objsearch.errors import UserError
 
 
 @dataclass(frozen=True)
 class GridPath:
-    """The oracle's view of a grid-world episode."""
+    """The oracle's view of a grid-world episode.
+
+    ``distances``: the goal's BFS distances over the map (H, W), as ``GridTables.goal_dist``
+    holds them; with them the path is read off without a BFS of its own (the same path:
+    ties broken by action order). The path is computed once per episode."""
 
     grid_map: GridMap
     task: GridTask
+    distances: np.ndarray | None = field(default=None, compare=False, repr=False)
 
     def shortest_path(self) -> list[int]:
-        return shortest_path_actions(self.grid_map.obstacles, self.task.start, tuple(self.grid_map.goals[self.task.goal]))
+        """A shortest action sequence from the task's start to its goal (a fresh list each call)."""
+        return list(self._path)
+
+    @cached_property
+    def _path(self) -> tuple[int, ...]:
+        goal = tuple(self.grid_map.goals[self.task.goal])
+        if self.distances is None:
+            return tuple(shortest_path_actions(self.grid_map.obstacles, self.task.start, goal))
+        return tuple(descend(self.distances, self.task.start))
+
+
+_MOVES = [tuple(move) for move in MOVES.tolist()]
+
+
+def descend(dist: np.ndarray, start) -> list[int]:
+    """The actions of ``maps.shortest_path_actions`` read off the goal's distances ``dist``
+    (H, W; -1 unreachable): from ``start``, the first action (up, down, left, right) that
+    lowers the distance by one, until it is 0."""
+    height, width = dist.shape
+    d = dist.tolist()
+    r, c = int(start[0]), int(start[1])
+    if d[r][c] < 0:
+        raise ValueError(f"the goal cannot be reached from {tuple(start)}")
+    actions = []
+    while d[r][c] > 0:
+        for a, (dr, dc) in enumerate(_MOVES):
+            nr, nc = r + dr, c + dc
+            if 0 <= nr < height and 0 <= nc < width and d[nr][nc] == d[r][c] - 1:
+                actions.append(a)
+                r, c = nr, nc
+                break
+    return actions
+
+
+def read_tasks(path: Path, tables: GridTables) -> list[GridTask] | None:
+    """A task file's tasks, their ``min_steps`` read from ``tables`` instead of one BFS a
+    task; None if the file cannot be read or any line is not a plain valid task (then
+    ``tasks.load_tasks`` reads it, and words the error)."""
+    try:
+        lines = path.read_text().splitlines()
+    except OSError:
+        return None
+    tasks = []
+    for line in lines:
+        if not line.strip():
+            continue
+        try:
+            item = json.loads(line)
+            map_name, start, goal = item["map"], item["start"], item["goal"]
+        except (json.JSONDecodeError, TypeError, KeyError):
+            return None
+        if (type(map_name) is not str or map_name not in tables.names or type(goal) is not int
+                or not 0 <= goal < tables.num_goals or type(start) is not list or len(start) != 2
+                or any(type(v) is not int for v in start)):
+            return None
+        row, col = start
+        if not (0 <= row < tables.height and 0 <= col < tables.width):
+            return None
+        cell = row * tables.width + col
+        m = tables.map_index(map_name)
+        steps = int(tables.goal_dist[m, goal, cell])
+        if not tables.free[m, cell] or steps <= 0:
+            return None
+        tasks.append(GridTask(map=map_name, start=(row, col), goal=goal, min_steps=steps))
+    return tasks or None
 
 
 class GridWorldSuite:
@@ -54,6 +126,7 @@ class GridWorldSuite:
             self.splits = (Path(tasks).stem,)
 
     def config(self) -> dict:
+        """The config that rebuilds this suite: ``maps``, ``tasks``, ``max_steps``."""
         return {"maps": self.maps_dir, "tasks": self.tasks_file, "max_steps": self.max_steps}
 
     @cached_property
@@ -63,16 +136,35 @@ class GridWorldSuite:
 
     @cached_property
     def grid_maps(self) -> dict[str, GridMap]:
+        """The suite's maps by name: the packaged test maps, or those of the ``maps`` directory."""
         return dataset.test_maps() if self.maps_dir is None else load_map_dir(self.maps_dir)
 
+    @cached_property
+    def _tables(self) -> GridTables | None:
+        """``grid_tables``, or None if the maps cannot share tables (the envs then refuse them)."""
+        try:
+            return self.grid_tables
+        except ValueError:
+            return None
+
     def _tasks(self, split: str) -> list[GridTask]:
+        tables = self._tables
         if self.tasks_file is None:
+            if tables is not None and split in dataset.SPLIT_GOALS and self.maps_dir is None:
+                tasks = read_tasks(dataset.DATA_DIR / "tasks" / f"{split}.jsonl", tables)
+                if tasks is not None:
+                    return tasks
             return dataset.split_tasks(split)
-        return load_tasks(self.tasks_file, self.grid_maps)
+        return (tables is not None and read_tasks(Path(self.tasks_file), tables)) or load_tasks(self.tasks_file, self.grid_maps)
 
     def episodes(self, split: str) -> list[Episode]:
+        """The fixed episodes of ``split``, in task-file order (ids 0, 1, ...)."""
         episodes = []
+        tables = self._tables
         for i, task in enumerate(self._tasks(split)):
+            distances = None
+            if tables is not None:
+                distances = tables.goal_dist[tables.map_index(task.map), task.goal].reshape(tables.height, tables.width)
             episodes.append(
                 Episode(
                     episode_id=i,
@@ -81,15 +173,93 @@ class GridWorldSuite:
                     goal_name=f"g{task.goal}",
                     min_steps=task.min_steps,
                     describe=task.to_json(),
-                    privileged=GridPath(self.grid_maps[task.map], task),
+                    privileged=GridPath(self.grid_maps[task.map], task, distances),
                 )
             )
         return episodes
 
+    def make_slots(self, num_slots: int) -> "GridSlots":
+        """``num_slots`` lockstep slots stepped in one ``BatchedGridWorld`` call
+        (``objsearch.eval.lockstep``): what ``num_slots`` envs of ``make_env`` would give."""
+        return GridSlots(self.make_env(), num_slots)
+
     def make_env(self) -> GridWorldEnv:
+        """A ``GridWorldEnv`` over the suite's maps, observing all goals, with the suite's step limit."""
         return GridWorldEnv(
             maps=self.grid_tables,
             goals=None,
             observation="all_goals",
             max_steps=self.max_steps,
         )
+
+
+class GridSlots:
+    """Lockstep slots of the grid world (the protocol of ``objsearch.eval.lockstep.EnvSlots``),
+    all in one ``BatchedGridWorld``: a step of every playing slot is one call of array
+    gathers, not one ``GridWorldEnv.step`` a slot. Each slot sees what ``env`` (a
+    ``GridWorldEnv`` of the suite, whose tables, step limit, observation and spaces the
+    slots share) would show it: the same observations, ends and successes."""
+
+    def __init__(self, env: GridWorldEnv, num_slots: int):
+        self.env = env
+        world = env._world
+        self.tables = world.tables
+        self.world = BatchedGridWorld(self.tables, num_slots, goals=None, observation=world.observation,
+                                      max_steps=world.max_steps, autoreset=False)
+        self.num_actions = int(env.action_space.n)
+        if int(env.action_space.start) != 0:
+            raise ValueError("GridSlots expects actions numbered from 0")
+
+    def __len__(self) -> int:
+        return self.world.num_envs
+
+    def observation_space(self, i: int):
+        """Slot ``i``'s observation space (the same for every slot)."""
+        return self.env.observation_space
+
+    def action_space(self, i: int):
+        """Slot ``i``'s action space (the same for every slot)."""
+        return self.env.action_space
+
+    def valid(self, i: int, action) -> bool:
+        """Whether ``action`` is in slot ``i``'s action space."""
+        if type(action) is int:  # what Discrete(n).contains says of a plain int, without its checks
+            return 0 <= action < self.num_actions
+        return self.env.action_space.contains(action)
+
+    def start(self, starts: dict[int, tuple[Episode, Any]]) -> dict[int, tuple[dict, dict]]:
+        """Reset slots to their episodes' tasks (the seed is not needed: a task fixes the
+        whole episode)."""
+        if not starts:
+            return {}
+        ids = list(starts)
+        t = self.tables
+        maps, goals, cells = [], [], []
+        for i in ids:
+            task = starts[i][0].task
+            try:
+                maps.append(t.map_index(task.map))
+            except ValueError:
+                raise ValueError(f"task map {task.map!r} is not among this env's maps") from None
+            goals.append(task.goal)
+            cells.append(int(task.start[0]) * t.width + int(task.start[1]))
+        obs = self.world.start(ids, maps, goals, cells)
+        w = self.world
+        out = {}
+        for k, i in enumerate(ids):
+            r, c = divmod(int(w.cell[i]), t.width)
+            info = {"success": False, "steps": 0, "min_steps": int(w.min_steps[i]), "map": t.names[int(w.map_idx[i])],
+                    "position": (r, c)}
+            out[i] = {"image": obs["image"][k], "goal": int(obs["goal"][k])}, info
+        return out
+
+    def step(self, actions: dict[int, Any]) -> dict[int, tuple[dict, bool, bool, dict]]:
+        """One step of each slot in ``actions`` (valid actions only); ``info`` holds
+        ``success`` and ``steps``."""
+        ids = list(actions)
+        obs, _, terminated, truncated, info = self.world.step_envs(ids, np.array([actions[i] for i in ids], dtype=np.int64))
+        images, goals = obs["image"], obs["goal"].tolist()
+        terminated, truncated, steps = terminated.tolist(), truncated.tolist(), info["steps"].tolist()
+        return {i: ({"image": images[k], "goal": goals[k]}, terminated[k], truncated[k],
+                    {"success": terminated[k], "steps": steps[k]})
+                for k, i in enumerate(ids)}

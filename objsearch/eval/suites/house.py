@@ -4,9 +4,11 @@ and suite files made by ``objsearch suite make``, all played by ``HouseSuite``.
 Episodes come from the suite files of ``objsearch.sim.suites``; the env is
 ``ObjSearch/House-v0`` in ``cached`` mode by default (``objsearch cache build --suite NAME``
 renders the caches ahead; otherwise the first episode in a house builds its cache) or
-``live``. With ``observation="predicted"`` the agent's ``semantic`` and ``depth`` are the
-perception network's predictions (``perception``: a checkpoint, default the shipped one),
-as in the paper; success is still judged on the ground truth.
+``live``. Agents see ``objsearch.sim.camera.AGENT_CAMERA``; goal poses come from the suite
+files (chosen through ``objsearch.sim.goals.GOAL_CAMERA``). With ``observation="predicted"``
+the agent's ``semantic`` and ``depth`` are the perception network's predictions
+(``perception``: a checkpoint, default the shipped one, trained on the agent camera's
+frames), as in the paper; success is still judged on the ground truth.
 """
 
 from __future__ import annotations
@@ -16,8 +18,8 @@ from functools import cached_property
 
 from objsearch.eval.suites import Episode
 from objsearch.house.categories import CATEGORY_IDS
+from objsearch.sim.camera import AGENT_CAMERA, check_predictor_camera
 from objsearch.sim.env import MODES, OBSERVATIONS, HouseEnv, HouseTask
-from objsearch.sim.goals import GOAL_CAMERA
 from objsearch.sim.navgraph import PoseGraph
 from objsearch.sim.suites import episode_task, house_refs, load_houses, load_suite_file
 from objsearch.sim.world import World
@@ -32,6 +34,7 @@ class HousePath:
     task: HouseTask
 
     def shortest_path(self) -> list[int]:
+        """A shortest action sequence from the task's start pose to its nearest goal pose."""
         g = self.graph
         return g.shortest_path(g.pose_id(*self.task.start), [g.pose_id(*p) for p in self.task.goals])
 
@@ -66,14 +69,13 @@ class HouseSuite:
             self.perception = str(resolve_checkpoint(perception))
             self.perception_given = perception  # what results record: None for the shipped network, on any machine
             self.predictor = Predictor.from_checkpoint(self.perception, device="cpu")
-            if self.predictor.settings != GOAL_CAMERA.to_dict():
-                raise UserError(f"perception checkpoint {self.perception} was trained on frames rendered with "
-                                f"{self.predictor.settings}; the house suites' camera is {GOAL_CAMERA.to_dict()}")
+            check_predictor_camera(self.predictor, AGENT_CAMERA)  # what the suite's env renders
             if perception_key is not None and perception_key != self.predictor.key:
                 raise UserError(f"perception checkpoint {self.perception} has key {self.predictor.key}, "
                                 f"not {perception_key} as recorded; pass the checkpoint the results were made with")
 
     def config(self) -> dict:
+        """The config that rebuilds this suite; with predicted observations also the perception checkpoint and key."""
         config = {"mode": self.mode, "cache_dir": self.cache_dir, "max_steps": self.max_steps}
         if self.predictor is not None:
             config.update(observation="predicted", perception=self.perception_given, perception_key=self.predictor.key)
@@ -81,9 +83,11 @@ class HouseSuite:
 
     @cached_property
     def worlds(self) -> dict[str, World]:
+        """The suite's houses by house id, loaded (or regenerated) on first use."""
         return load_houses(self.data)
 
     def episodes(self, split: str) -> list[Episode]:
+        """The fixed episodes of ``split``, in the suite file's order (ids 0, 1, ...)."""
         out = []
         for i, item in enumerate(self.data["splits"][split]):
             task = episode_task(self.data, item)
@@ -101,10 +105,15 @@ class HouseSuite:
         return out
 
     def make_env(self) -> HouseEnv:
-        return HouseEnv(list(self.worlds.values()), mode=self.mode, max_steps=self.max_steps, cache_dir=self.cache_dir,
-                        observation=self.observation, predictor=self.predictor)
+        """A ``HouseEnv`` over the suite's houses with its render mode, observation, camera and step limit."""
+        return HouseEnv(list(self.worlds.values()), mode=self.mode, settings=AGENT_CAMERA, max_steps=self.max_steps,
+                        cache_dir=self.cache_dir, observation=self.observation, predictor=self.predictor)
 
     def write_video(self, directory: str, record: dict, episode: Episode, trajectory: list) -> None:
+        """Write the video of one episode into ``directory`` as ``<split>_seed<seed>_ep<id>``.
+
+        ``trajectory``: the episode's (observation, info) pairs, from the reset on.
+        """
         from pathlib import Path
 
         from objsearch.sim.video import write_episode

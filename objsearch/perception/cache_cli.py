@@ -6,7 +6,10 @@ kind, size, current or why not: file sizes and headers are checked, not digests)
 leftover temp folders; ``objsearch cache verify``
 checks every file's sha256 (exit 2 if one is damaged); ``objsearch cache clear`` removes
 the caches that are not current (old versions, damaged: digests checked) and temp folders of killed builds,
-``--house ID`` every cache of a house, ``--all`` everything."""
+``--house ID`` every cache of a house, ``--all`` everything.
+
+It lives in ``perception`` (not in ``sim``, beside the caches) because a build may fill the
+perception network's predictions too: ``perception`` is the lowest layer that sees both."""
 
 from __future__ import annotations
 
@@ -17,6 +20,7 @@ from objsearch.cluster import add_executor_arguments, check_executor_arguments
 
 
 def add_parser(subparsers) -> None:
+    """Add ``objsearch cache`` (build, list, verify, clear) to ``subparsers``."""
     from objsearch.sim.suites import SUITE_NAMES
 
     parser = subparsers.add_parser("cache", help="pre-rendered observation caches of house suites", description=__doc__)
@@ -54,6 +58,7 @@ def _root(args) -> Path:
 
 
 def run_list(args: argparse.Namespace) -> int:
+    """``objsearch cache list``: print every cache and temp folder with its size and state; returns 0."""
     from objsearch.fileio import abandoned_temp_folders
     from objsearch.sim.cache import cache_folders, folder_bytes, format_size
 
@@ -74,6 +79,7 @@ def run_list(args: argparse.Namespace) -> int:
 
 
 def run_verify(args: argparse.Namespace) -> int:
+    """``objsearch cache verify``: check every cache's file digests; ``UserError`` if one is stale or damaged."""
     from objsearch.errors import UserError
     from objsearch.sim.cache import cache_folders
 
@@ -96,6 +102,7 @@ def run_verify(args: argparse.Namespace) -> int:
 
 
 def run_clear(args: argparse.Namespace) -> int:
+    """``objsearch cache clear``: remove stale caches (or ``--house``'s, or ``--all``) and abandoned temp folders."""
     import shutil
 
     from objsearch.fileio import abandoned_temp_folders
@@ -124,6 +131,10 @@ def run_clear(args: argparse.Namespace) -> int:
 
 
 def run_build(args: argparse.Namespace) -> int:
+    """``objsearch cache build``: render every house of ``--suite`` (and ``--training`` houses) into the cache.
+
+    Raises ``UserError`` for a bad suite, ``--perception`` without ``--observation predicted`` or a bad checkpoint.
+    """
     from objsearch.errors import UserError
     from objsearch.sim.suites import load_suite_file
 
@@ -133,10 +144,12 @@ def run_build(args: argparse.Namespace) -> int:
     check_executor_arguments(args)
     checkpoint = None
     if args.observation == "predicted":
-        from objsearch.perception.inference import load_checkpoint, resolve_checkpoint
+        from objsearch.perception.inference import check_checkpoint_camera, resolve_checkpoint
 
         checkpoint = resolve_checkpoint(args.perception)
-        load_checkpoint(checkpoint)  # a bad checkpoint fails here, before any house is rendered
+        # a bad checkpoint, or one trained on another camera than the caches' (the agent camera),
+        # fails here, before any house is rendered
+        check_checkpoint_camera(checkpoint)
     houses = dict(suite["houses"])
     if args.training:
         houses.update(suite["training_houses"])
@@ -158,11 +171,11 @@ def build_caches(houses: dict[str, dict], cache_dir=None, settings=None, percept
 
     from objsearch.cluster import map_houses
     from objsearch.sim.cache import default_cache_dir
-    from objsearch.sim.goals import GOAL_CAMERA
+    from objsearch.sim.camera import AGENT_CAMERA
 
     root = Path(cache_dir or default_cache_dir()).resolve()  # what every worker, wherever it runs, writes to
     perception = None if perception is None else str(Path(perception).resolve())
-    task = partial(build_house_cache, cache_dir=root, settings=settings or GOAL_CAMERA, perception=perception)
+    task = partial(build_house_cache, cache_dir=root, settings=settings or AGENT_CAMERA, perception=perception)
     parts = map_houses(task, houses.items(), executor, address, workers, desc=desc, progress=progress)
     return [line for part in parts for line in part]
 

@@ -1,0 +1,42 @@
+"""What determines an evaluation's results: ``EvalConfig`` (written into every results file
+and every partial-results file) and the unit an evaluation is made of."""
+
+from __future__ import annotations
+
+from dataclasses import asdict, dataclass, field
+
+PAPER_SEEDS = (1, 5, 13, 45, 99)
+Unit = tuple[str, int, int]  # (split, seed, episode_id): one episode played with one seed
+
+
+@dataclass(frozen=True)
+class EvalConfig:
+    """Everything that determines an evaluation's results.
+
+    Attributes:
+        agent: registered agent name or ``package.module:Class``.
+        suite: suite name.
+        splits: splits to run (empty: all of the suite's).
+        seeds: evaluation seeds; every episode is run once per seed.
+        checkpoint: path passed to the agent's ``load``, if any.
+        suite_config: arguments of the suite (e.g. ``maps``, ``tasks``, ``max_steps``).
+        step_time_limit: seconds an agent may take for one ``act`` (or ``reset``); past it
+            the episode fails. None: no limit.
+        weights_sha256: the digest of the files the agent loaded (its ``weights_sha256``,
+            ``objsearch.digests.of_files``), set by ``evaluate``; None for an agent without.
+    """
+
+    agent: str
+    suite: str = "gridworld"
+    splits: tuple[str, ...] = ()
+    seeds: tuple[int, ...] = PAPER_SEEDS
+    checkpoint: str | None = None
+    suite_config: dict = field(default_factory=dict)
+    step_time_limit: float | None = 10.0
+    weights_sha256: str | None = None
+
+    def to_json(self) -> dict:
+        """The fields as a JSON-ready dict (tuples as lists)."""
+        out = asdict(self)
+        out["splits"], out["seeds"] = list(self.splits), list(self.seeds)
+        return out

@@ -1,0 +1,63 @@
+"""Where an evaluation's units run: in this process, a pool of local worker processes, or
+the actors of a Ray cluster. Each process builds one ``Worker`` and plays chunks of units;
+finished records are handed to ``done`` as they come (in any order). Local worker processes
+die with the process that started them (``objsearch.cluster.local_pool``)."""
+
+from __future__ import annotations
+
+from typing import Callable
+
+from objsearch.cluster import local_pool
+from objsearch.eval.config import EvalConfig, Unit
+from objsearch.eval.worker import Worker
+
+Done = Callable[[list[dict]], None]
+
+_worker: Worker | None = None  # the Worker of a local pool's process
+
+
+def _init_worker(config: EvalConfig, video_dir: str | None, batch: int, folder: str, video_units: frozenset | None) -> None:
+    global _worker
+    _worker = Worker(config, video_dir, batch, folder, video_units)
+
+
+def _run_chunk(units: list[Unit]) -> list[dict]:
+    return _worker.run_chunk(units)
+
+
+def chunks(units: list[Unit], workers: int, batch: int = 1) -> list[list[Unit]]:
+    """``units`` cut into the pieces handed to workers: small enough to share the work out,
+    big enough for lockstep slots to stay busy."""
+    size = max(1, min(50, len(units) // (workers * 4)))
+    if batch > 1:  # a lockstep chunk keeps its slots busy for most of its length
+        size = max(size, 4 * batch)
+    return [units[i : i + size] for i in range(0, len(units), size)]
+
+
+def run_local(config: EvalConfig, units: list[Unit], workers: int, video_dir: str | None, done: Done,
+              batch: int = 1, folder: str | None = None, video_units: frozenset | None = None) -> None:
+    """Play ``units`` in this process (``workers`` <= 1) or a pool of ``workers`` processes."""
+    if workers <= 1:
+        for record in Worker(config, video_dir, batch, folder, video_units).play(units):
+            done([record])
+        return
+    with local_pool(workers, _init_worker, (config, video_dir, batch, folder, video_units)) as pool:
+        for part in pool.map(_run_chunk, chunks(units, workers, batch)):
+            done(part)
+
+
+def run_ray(config: EvalConfig, units: list[Unit], workers: int, address: str | None, video_dir: str | None, done: Done,
+            batch: int = 1, folder: str | None = None, video_units: frozenset | None = None) -> None:
+    """Play ``units`` on ``workers`` Ray actors (at least one per CPU of a cluster at ``address``;
+    None: a local cluster started for the run)."""
+    from objsearch.cluster import ray_session
+
+    with ray_session(address, num_cpus=workers) as ray:
+        from ray.util import ActorPool
+
+        if address:
+            workers = max(workers, int(ray.cluster_resources().get("CPU", 1)))
+        actors = [ray.remote(num_cpus=1)(Worker).remote(config, video_dir, batch, folder, video_units) for _ in range(workers)]
+        for part in ActorPool(actors).map_unordered(lambda actor, chunk: actor.run_chunk.remote(chunk),
+                                                    chunks(units, workers, batch)):
+            done(part)

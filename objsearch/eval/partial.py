@@ -1,0 +1,90 @@
+"""The partial-results file ``<out>.partial.jsonl``: an evaluation's finished records,
+appended as they come, so that an interrupted run resumes where it stopped."""
+
+from __future__ import annotations
+
+import json
+import sys
+from pathlib import Path
+from typing import Iterable
+
+from objsearch.errors import UserError
+from objsearch.eval.config import EvalConfig, Unit
+
+RECORD_KEYS = frozenset(("split", "seed", "episode_id", "success", "steps", "min_steps"))
+
+
+class PartialResults:
+    """Finished records of an evaluation, appended to ``<out>.partial.jsonl`` as they come.
+
+    The first line is the configuration; a rerun with the same configuration resumes, one
+    with another is refused, naming the settings that differ. A last line cut short by an
+    interruption is dropped; any other line that is not an episode record is dropped with a
+    warning (its episode runs again), so that the run stays resumable.
+    """
+
+    def __init__(self, path: str | Path, config: EvalConfig):
+        self.path = Path(path)
+        header = {"partial_results_of": config.to_json()}
+        self.records: list[dict] = []
+        if self.path.exists():
+            lines = self.path.read_text().splitlines()
+            try:
+                first = json.loads(lines[0]) if lines else None
+            except json.JSONDecodeError:
+                first = None
+            stored = first.get("partial_results_of") if isinstance(first, dict) else None
+            if not isinstance(stored, dict):
+                raise UserError(f"{self.path} is not a partial-results file (its first line is not an evaluation's "
+                                "settings); delete it or choose another --out")
+            if stored != header["partial_results_of"]:
+                raise UserError(
+                    f"{self.path} holds partial results of another evaluation ({_differences(stored, header['partial_results_of'])}); "
+                    "rerun with those settings to resume it, or delete it or choose another --out to start afresh"
+                )
+            for number, line in enumerate(lines[1:], start=2):
+                try:
+                    record = json.loads(line)
+                except json.JSONDecodeError:
+                    record = None
+                    if number == len(lines):
+                        break  # the write an interruption cut short
+                if not (isinstance(record, dict) and RECORD_KEYS <= record.keys()):
+                    print(f"warning: {self.path} line {number} is not an episode record ({line[:60]!r}); "
+                          "dropped, its episode runs again", file=sys.stderr)
+                    continue
+                self.records.append(record)
+            self.path.write_text("".join(json.dumps(x) + "\n" for x in [header, *self.records]))
+        else:
+            self.path.parent.mkdir(parents=True, exist_ok=True)
+            self.path.write_text(json.dumps(header) + "\n")
+        self._file = open(self.path, "a")
+
+    def done_units(self) -> set[Unit]:
+        """The (split, seed, episode_id) units already finished."""
+        return {(r["split"], r["seed"], r["episode_id"]) for r in self.records}
+
+    def add(self, records: Iterable[dict]) -> None:
+        """Append ``records`` and flush them to disk."""
+        for record in records:
+            self._file.write(json.dumps(record) + "\n")
+        self._file.flush()
+
+    def close(self) -> None:
+        """Close the file (it stays on disk until the results are written)."""
+        self._file.close()
+
+
+def _differences(stored: dict, now: dict, prefix: str = "") -> str:
+    """The settings that differ between two configurations, e.g. ``agent: 'random' there,
+    'oracle' now``."""
+    parts = []
+    for key in sorted(set(stored) | set(now), key=str):
+        there, here = stored.get(key), now.get(key)
+        if there == here:
+            continue
+        if isinstance(there, dict) and isinstance(here, dict):
+            parts.append(_differences(there, here, f"{prefix}{key}."))
+        else:
+            parts.append(f"{prefix}{key}: {there!r} there, {here!r} now")
+    return "; ".join(parts)
