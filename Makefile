@@ -27,6 +27,8 @@ demo: $(STAMP)
 	$(BIN)/objsearch-eval --agent hrl_grg --seeds 1 --batch 32   # the main job: a house suite (house-single)
 
 test: $(STAMP)
+	$(BIN)/ruff check .
+	$(BIN)/ruff format --check .
 	$(BIN)/python -m pytest -q
 
 bench: $(STAMP)

@@ -19,7 +19,9 @@ from torch import nn
 class ActorCriticLearner:
     """An actor-critic network (``forward(*inputs) -> (logits, value)``) and its optimiser."""
 
-    def __init__(self, net: nn.Module, lr: float, alpha: float, eps: float, max_grad_norm: float, entropy: float, gamma: float):
+    def __init__(
+        self, net: nn.Module, lr: float, alpha: float, eps: float, max_grad_norm: float, entropy: float, gamma: float
+    ):
         self.net = net
         self.optimizer = torch.optim.RMSprop(net.parameters(), lr=lr, alpha=alpha, eps=eps)
         self.max_grad_norm, self.entropy, self.gamma = max_grad_norm, entropy, gamma

@@ -255,4 +255,6 @@ class GoalsRelationalGraph:
             with np.load(path, allow_pickle=False) as data:
                 return cls.from_state_dict({key: data[key] for key in ("counts", "prior", "gamma", "observable")})
         except (OSError, ValueError, KeyError) as err:
-            raise UserError(f"cannot read GRG file {path}: {err}; expected an .npz written by GoalsRelationalGraph.save") from None
+            raise UserError(
+                f"cannot read GRG file {path}: {err}; expected an .npz written by GoalsRelationalGraph.save"
+            ) from None

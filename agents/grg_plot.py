@@ -53,8 +53,13 @@ def draw_graph(weights: np.ndarray, edges_per_node: int = 2, size: int = 640) ->
     goals = 16
     img = np.full((size, size, 3), 255, np.uint8)
     centre, radius = size / 2, size * 0.38
-    at = [(int(centre + radius * math.cos(2 * math.pi * i / goals - math.pi / 2)),
-           int(centre + radius * math.sin(2 * math.pi * i / goals - math.pi / 2))) for i in range(goals)]
+    at = [
+        (
+            int(centre + radius * math.cos(2 * math.pi * i / goals - math.pi / 2)),
+            int(centre + radius * math.sin(2 * math.pi * i / goals - math.pi / 2)),
+        )
+        for i in range(goals)
+    ]
     w = weights[:goals, :goals].astype(float).copy()
     np.fill_diagonal(w, 0.0)
     for i in range(goals):
@@ -65,8 +70,15 @@ def draw_graph(weights: np.ndarray, edges_per_node: int = 2, size: int = 640) ->
             start, end = np.array(at[i], float), np.array(at[j], float)
             direction = (end - start) / max(np.linalg.norm(end - start), 1e-9)
             tip = end - direction * 22  # stop at the node's rim
-            cv2.arrowedLine(img, tuple(int(v) for v in start + direction * 22), tuple(int(v) for v in tip),
-                            (shade, shade, shade), max(1, int(round(4 * w[i, j]))), cv2.LINE_AA, tipLength=0.08)
+            cv2.arrowedLine(
+                img,
+                tuple(int(v) for v in start + direction * 22),
+                tuple(int(v) for v in tip),
+                (shade, shade, shade),
+                max(1, int(round(4 * w[i, j]))),
+                cv2.LINE_AA,
+                tipLength=0.08,
+            )
     for i, (x, y) in enumerate(at):
         colour = (60, 150, 230) if i < 8 else (80, 180, 90)
         cv2.circle(img, (x, y), 20, colour, -1, cv2.LINE_AA)
@@ -74,9 +86,19 @@ def draw_graph(weights: np.ndarray, edges_per_node: int = 2, size: int = 640) ->
         label = f"g{i}"
         (tw, th), _ = cv2.getTextSize(label, cv2.FONT_HERSHEY_SIMPLEX, 0.5, 1)
         cv2.putText(img, label, (x - tw // 2, y + th // 2), cv2.FONT_HERSHEY_SIMPLEX, 0.5, (0, 0, 0), 1, cv2.LINE_AA)
-    cv2.putText(img, f"chain neighbour among the 2 strongest out-edges: {chain_recovery(weights):.0%} of goals",
-                (10, size - 12), cv2.FONT_HERSHEY_SIMPLEX, 0.45, (0, 0, 0), 1, cv2.LINE_AA)
-    cv2.putText(img, "bold rim: goals never trained on", (10, 20), cv2.FONT_HERSHEY_SIMPLEX, 0.45, (0, 0, 0), 1, cv2.LINE_AA)
+    cv2.putText(
+        img,
+        f"chain neighbour among the 2 strongest out-edges: {chain_recovery(weights):.0%} of goals",
+        (10, size - 12),
+        cv2.FONT_HERSHEY_SIMPLEX,
+        0.45,
+        (0, 0, 0),
+        1,
+        cv2.LINE_AA,
+    )
+    cv2.putText(
+        img, "bold rim: goals never trained on", (10, 20), cv2.FONT_HERSHEY_SIMPLEX, 0.45, (0, 0, 0), 1, cv2.LINE_AA
+    )
     return img
 
 
@@ -85,8 +107,10 @@ def load_grg(run: str | os.PathLike) -> tuple[GoalsRelationalGraph, Path]:
     path = Path(run)
     path = path / "grg.npz" if path.is_dir() else path
     if not path.exists():
-        raise UserError(f"no GRG at {path}: give a checkpoint or run folder with a grg.npz (e.g. "
-                        "agents/checkpoints/gridworld/hrl_grg) or a grg.npz file")
+        raise UserError(
+            f"no GRG at {path}: give a checkpoint or run folder with a grg.npz (e.g. "
+            "agents/checkpoints/gridworld/hrl_grg) or a grg.npz file"
+        )
     return GoalsRelationalGraph.load(path), path
 
 
@@ -98,8 +122,10 @@ def world_of(graph: GoalsRelationalGraph, path: Path) -> str:
         return "gridworld"
     if graph.observable == NUM_OBJECTS:
         return "house"
-    raise UserError(f"{path}: a GRG over {graph.observable} observable nodes is neither the grid world's "
-                    f"({GRID_GOALS} goals) nor the houses' ({NUM_OBJECTS} object categories)")
+    raise UserError(
+        f"{path}: a GRG over {graph.observable} observable nodes is neither the grid world's "
+        f"({GRID_GOALS} goals) nor the houses' ({NUM_OBJECTS} object categories)"
+    )
 
 
 def write_png(image: np.ndarray, out: str | os.PathLike) -> None:
@@ -111,8 +137,9 @@ def write_png(image: np.ndarray, out: str | os.PathLike) -> None:
         f.write(png.tobytes())
 
 
-def plot_grg(run: str | os.PathLike, out: str | os.PathLike = "grg.png", world: str | None = None,
-             edges: int | None = None) -> list[str]:
+def plot_grg(
+    run: str | os.PathLike, out: str | os.PathLike = "grg.png", world: str | None = None, edges: int | None = None
+) -> list[str]:
     """Draw the GRG of ``run`` to the PNG ``out``; return the lines to print.
 
     Args:
@@ -129,7 +156,9 @@ def plot_grg(run: str | os.PathLike, out: str | os.PathLike = "grg.png", world: 
     weights = graph.edge_weights()
     if found == "gridworld":
         if edges is not None:
-            raise UserError("--edges applies to house GRGs; the grid-world figure draws each goal's 2 strongest out-edges")
+            raise UserError(
+                "--edges applies to house GRGs; the grid-world figure draws each goal's 2 strongest out-edges"
+            )
         write_png(draw_graph(weights), out)
         return [f"wrote {out}; chain recovery {chain_recovery(weights):.0%}"]
     from objsearch_agents.house.grg_figure import draw, strongest_edges

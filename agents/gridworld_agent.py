@@ -97,8 +97,15 @@ class GridAgent:
     def _check_method(self, saved: GridAgentConfig, path: Path) -> None:
         """Refuse a checkpoint trained as another method or ablation than this agent's."""
         mine = self.config
-        if (saved.method, saved.relation, saved.termination, saved.high_level) != (mine.method, mine.relation, mine.termination, mine.high_level):
-            raise UserError(f"checkpoint {path} was trained as {describe(saved)}, not {describe(mine)}; pick the matching --agent")
+        if (saved.method, saved.relation, saved.termination, saved.high_level) != (
+            mine.method,
+            mine.relation,
+            mine.termination,
+            mine.high_level,
+        ):
+            raise UserError(
+                f"checkpoint {path} was trained as {describe(saved)}, not {describe(mine)}; pick the matching --agent"
+            )
 
     # -- the protocol (one episode, or N in lockstep: the same code) -------------------------
     def reset(self, task: AgentTask) -> None:
@@ -121,8 +128,12 @@ class GridAgent:
 
     def act_batch(self, observations: dict) -> dict:
         busy = sorted(observations)
-        images = np.stack([np.asarray(observations[i if i in observations else busy[0]]["image"], dtype=np.uint8)
-                           for i in range(self._slots)])
+        images = np.stack(
+            [
+                np.asarray(observations[i if i in observations else busy[0]]["image"], dtype=np.uint8)
+                for i in range(self._slots)
+            ]
+        )
         p, rng = self.policy, RowRandom(self._rngs)
         p.advance(images, np.zeros(self._slots, dtype=bool), count=False)  # a no-op for slots on their first step
         eps = np.full(self._slots, self.epsilon)
@@ -133,9 +144,19 @@ class GridAgent:
 
     # -- training ----------------------------------------------------------------------------
     @classmethod
-    def train(cls, *, suite: str, out: str | os.PathLike, episodes: int | None = None, seed: int = 0,
-              overrides: dict[str, str] | None = None, fresh: bool = False, progress: bool = True,
-              command: str | None = None, steps: int | None = None) -> dict:
+    def train(
+        cls,
+        *,
+        suite: str,
+        out: str | os.PathLike,
+        episodes: int | None = None,
+        seed: int = 0,
+        overrides: dict[str, str] | None = None,
+        fresh: bool = False,
+        progress: bool = True,
+        command: str | None = None,
+        steps: int | None = None,
+    ) -> dict:
         """Train this agent (the ``objsearch train`` hook). Returns a summary dict."""
         from dataclasses import replace
 
@@ -143,8 +164,17 @@ class GridAgent:
         from objsearch_agents.gridworld_train import train
 
         if cls.house is not None and suite_world(suite) == "house":
-            return cls.house.train(suite=suite, out=out, episodes=episodes, seed=seed, overrides=overrides, fresh=fresh,
-                                   progress=progress, command=command, **({"steps": steps} if steps is not None else {}))
+            return cls.house.train(
+                suite=suite,
+                out=out,
+                episodes=episodes,
+                seed=seed,
+                overrides=overrides,
+                fresh=fresh,
+                progress=progress,
+                command=command,
+                **({"steps": steps} if steps is not None else {}),
+            )
         if steps is not None:
             raise UserError("grid-world agents train for a number of episodes: pass --episodes, not --steps")
         if suite not in cls.train_suites:
@@ -153,8 +183,13 @@ class GridAgent:
         if episodes is not None:
             config = replace(config, episodes=int(episodes))
         run = train(config, out, progress=progress, fresh=fresh, command=command)
-        return {"out": str(out), "finished": run.counters["finished"], "env_steps": run.counters["env_steps"],
-                "interrupted": run.interrupted, "wall_s": run.counters["wall_s"]}
+        return {
+            "out": str(out),
+            "finished": run.counters["finished"],
+            "env_steps": run.counters["env_steps"],
+            "interrupted": run.interrupted,
+            "wall_s": run.counters["wall_s"],
+        }
 
 
 def describe(config: GridAgentConfig) -> str:

@@ -27,8 +27,12 @@ POLICY_EXPECTED = "a grid-world policy.pt written by objsearch train"
 
 def save_policy(policy: GridPolicy, out: Path) -> None:
     """The evaluable policy: ``policy.pt`` (network weights and config) and ``grg.npz``."""
-    state = {"config": policy.config.to_json(), "num_goals": policy.num_goals, "low": policy.low.state_dict(),
-             "high": policy.high.state_dict() if policy.high is not None else None}
+    state = {
+        "config": policy.config.to_json(),
+        "num_goals": policy.num_goals,
+        "low": policy.low.state_dict(),
+        "high": policy.high.state_dict() if policy.high is not None else None,
+    }
     torchfile.save(out / POLICY_FILE, state)
     if policy.grg is not None:
         policy.grg.save(out / GRG_FILE)
@@ -38,13 +42,16 @@ def load_policy_file(path: Path) -> dict:
     """The contents of a ``policy.pt``; a file that is not one is a ``UserError``."""
     state = torchfile.load(path, POLICY_EXPECTED)
     if not isinstance(state, dict) or not {"config", "num_goals", "low"} <= set(state):
-        raise UserError(f"checkpoint {path} is not a grid-world policy.pt (no config/low weights); "
-                        "pass one written by objsearch train --suite gridworld")
+        raise UserError(
+            f"checkpoint {path} is not a grid-world policy.pt (no config/low weights); "
+            "pass one written by objsearch train --suite gridworld"
+        )
     return state
 
 
-def load_policy(path: str | os.PathLike,
-                check: Callable[[GridAgentConfig, Path], None] | None = None) -> tuple[GridPolicy, list[Path]]:
+def load_policy(
+    path: str | os.PathLike, check: Callable[[GridAgentConfig, Path], None] | None = None
+) -> tuple[GridPolicy, list[Path]]:
     """The policy of ``policy.pt`` at ``path`` (or in the run folder ``path``), with the GRG of
     ``grg.npz`` beside it if its method keeps one, and the files read (for their digest).
 

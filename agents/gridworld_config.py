@@ -89,9 +89,23 @@ class GridAgentConfig(JsonConfig):
             raise UserError(f"method must be one of {METHODS}, not {self.method!r}")
         if self.starts not in STARTS:
             raise UserError(f"starts must be one of {STARTS}, not {self.starts!r}")
-        require_at_least(self, ("num_envs", "max_steps", "option_steps", "batch_size", "replay_size", "update_every",
-                                "target_update", "eps_anneal_episodes", "curriculum_episodes", "checkpoint_every",
-                                "log_every"), 1)
+        require_at_least(
+            self,
+            (
+                "num_envs",
+                "max_steps",
+                "option_steps",
+                "batch_size",
+                "replay_size",
+                "update_every",
+                "target_update",
+                "eps_anneal_episodes",
+                "curriculum_episodes",
+                "checkpoint_every",
+                "log_every",
+            ),
+            1,
+        )
 
     @property
     def hierarchical(self) -> bool:

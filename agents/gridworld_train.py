@@ -45,17 +45,28 @@ from tqdm import tqdm
 
 from objsearch import torchfile
 from objsearch.fileio import atomic_write, write_csv
-from objsearch.interrupt import stop_on_interrupt
 from objsearch.gridworld.batched import HALF, BatchedGridWorld, GridTables
 from objsearch.gridworld.maps import GridMap
 from objsearch.gridworld.tasks import SEEN_GOALS
+from objsearch.interrupt import stop_on_interrupt
 from objsearch_agents.dqn_learner import Learner, flat_loss, grg_high_loss, hdqn_high_loss
 from objsearch_agents.gridworld_checkpoint import CONFIG_FILE, LOG_FILE, STATE_FILE, load_policy_file, save_policy
 from objsearch_agents.gridworld_config import GridAgentConfig
 from objsearch_agents.gridworld_policy import GridPolicy, goal_input, goals_under_agent
 from objsearch_agents.replay import ReplayBuffer
 
-LOG_FIELDS = ("episodes", "env_steps", "updates", "epsilon", "success_rate", "mean_steps", "loss_low", "loss_high", "grg_counts", "wall_s")
+LOG_FIELDS = (
+    "episodes",
+    "env_steps",
+    "updates",
+    "epsilon",
+    "success_rate",
+    "mean_steps",
+    "loss_low",
+    "loss_high",
+    "grg_counts",
+    "wall_s",
+)
 
 
 class StartSampler:
@@ -70,7 +81,9 @@ class StartSampler:
         if mode == "visible":
             rows, cols = np.divmod(np.arange(cells), tables.width)
             grow, gcol = np.divmod(tables.goal_cells, tables.width)  # (M, G)
-            near = (np.abs(rows[None, None] - grow[..., None]) <= HALF) & (np.abs(cols[None, None] - gcol[..., None]) <= HALF)
+            near = (np.abs(rows[None, None] - grow[..., None]) <= HALF) & (
+                np.abs(cols[None, None] - gcol[..., None]) <= HALF
+            )
             ok &= near
         key = np.where(ok, dist, np.iinfo(np.int64).max)
         self.order = np.argsort(key, axis=2, kind="stable")  # nearest first, ties by cell index
@@ -97,17 +110,34 @@ class TrainRun:
         self.rng = np.random.default_rng([c.seed, 7])
         self.policy = GridPolicy(c, num_goals=g)
         self.sampler = StartSampler(self.tables, c.starts)
-        self.env = BatchedGridWorld(self.tables, c.num_envs, observation="all_goals", max_steps=c.max_steps, autoreset=False, rng=self.rng)
+        self.env = BatchedGridWorld(
+            self.tables, c.num_envs, observation="all_goals", max_steps=c.max_steps, autoreset=False, rng=self.rng
+        )
         self.low = Learner(self.policy.low, c)
-        self.low_replay = ReplayBuffer(c.replay_size, {
-            "obs": ((2, 7, 7), np.uint8), "action": ((), np.int64), "reward": ((), np.float32),
-            "next_obs": ((2, 7, 7), np.uint8), "done": ((), np.float32)})
+        self.low_replay = ReplayBuffer(
+            c.replay_size,
+            {
+                "obs": ((2, 7, 7), np.uint8),
+                "action": ((), np.int64),
+                "reward": ((), np.float32),
+                "next_obs": ((2, 7, 7), np.uint8),
+                "done": ((), np.float32),
+            },
+        )
         self.high = self.high_replay = None
         if self.policy.high is not None:
             self.high = Learner(self.policy.high, c)
-            self.high_replay = ReplayBuffer(c.replay_size, {
-                "obs": ((1 + g, 7, 7), np.uint8), "goal": ((), np.int64), "subgoal": ((), np.int64),
-                "reward": ((), np.float32), "next_obs": ((1 + g, 7, 7), np.uint8), "done": ((), np.float32)})
+            self.high_replay = ReplayBuffer(
+                c.replay_size,
+                {
+                    "obs": ((1 + g, 7, 7), np.uint8),
+                    "goal": ((), np.int64),
+                    "subgoal": ((), np.int64),
+                    "reward": ((), np.float32),
+                    "next_obs": ((1 + g, 7, 7), np.uint8),
+                    "done": ((), np.float32),
+                },
+            )
         self.episode_ix = np.zeros(c.num_envs, dtype=np.int64)
         self.counters = {"started": 0, "finished": 0, "env_steps": 0, "updates": 0, "credit": 0.0, "wall_s": 0.0}
         self.window = {"success": 0, "episodes": 0, "steps": 0, "loss_low": [0.0, 0], "loss_high": [0.0, 0]}
@@ -152,15 +182,31 @@ class TrainRun:
         if c.hierarchical:
             real = np.flatnonzero(subgoal < p.random_node)
             reached = goals_under_agent(nxt)[real, subgoal[real]].astype(np.float32)
-            self.low_replay.add(obs=low_in[real], action=actions[real], reward=reached,
-                                next_obs=goal_input(nxt[real], subgoal[real]), done=reached)
+            self.low_replay.add(
+                obs=low_in[real],
+                action=actions[real],
+                reward=reached,
+                next_obs=goal_input(nxt[real], subgoal[real]),
+                done=reached,
+            )
             if self.high_replay is not None:
-                self.high_replay.add(obs=images, goal=p.goal.copy(), subgoal=subgoal, reward=reward,
-                                     next_obs=nxt, done=success.astype(np.float32))
+                self.high_replay.add(
+                    obs=images,
+                    goal=p.goal.copy(),
+                    subgoal=subgoal,
+                    reward=reward,
+                    next_obs=nxt,
+                    done=success.astype(np.float32),
+                )
             p.advance(nxt, over, count=True)
         else:
-            self.low_replay.add(obs=low_in, action=actions, reward=reward, next_obs=goal_input(nxt, p.goal),
-                                done=success.astype(np.float32))
+            self.low_replay.add(
+                obs=low_in,
+                action=actions,
+                reward=reward,
+                next_obs=goal_input(nxt, p.goal),
+                done=success.astype(np.float32),
+            )
         self._learn(len(actions))
         self.obs = obs
         done = np.flatnonzero(over)
@@ -207,28 +253,37 @@ class TrainRun:
     def log_row(self) -> None:
         w, k = self.window, self.counters
         mean = lambda pair: round(pair[0] / pair[1], 6) if pair[1] else ""
-        self.rows.append({
-            "episodes": k["finished"], "env_steps": k["env_steps"], "updates": k["updates"],
-            "epsilon": round(float(self.epsilon(np.array([k["started"]]))[0]), 4),
-            "success_rate": round(w["success"] / max(w["episodes"], 1), 4),
-            "mean_steps": round(w["steps"] / max(w["episodes"], 1), 2),
-            "loss_low": mean(w["loss_low"]), "loss_high": mean(w["loss_high"]),
-            "grg_counts": int(self.policy.grg.counts.sum()) if self.policy.grg is not None else "",
-            "wall_s": round(k["wall_s"], 1),
-        })
+        self.rows.append(
+            {
+                "episodes": k["finished"],
+                "env_steps": k["env_steps"],
+                "updates": k["updates"],
+                "epsilon": round(float(self.epsilon(np.array([k["started"]]))[0]), 4),
+                "success_rate": round(w["success"] / max(w["episodes"], 1), 4),
+                "mean_steps": round(w["steps"] / max(w["episodes"], 1), 2),
+                "loss_low": mean(w["loss_low"]),
+                "loss_high": mean(w["loss_high"]),
+                "grg_counts": int(self.policy.grg.counts.sum()) if self.policy.grg is not None else "",
+                "wall_s": round(k["wall_s"], 1),
+            }
+        )
         self.window = {"success": 0, "episodes": 0, "steps": 0, "loss_low": [0.0, 0], "loss_high": [0.0, 0]}
 
     def state_dict(self) -> dict:
         env = self.env
         return {
             "config": self.config.to_json(),
-            "counters": dict(self.counters), "window": {k: (list(v) if isinstance(v, list) else v) for k, v in self.window.items()},
-            "rows": list(self.rows), "rng": self.rng.bit_generator.state,
+            "counters": dict(self.counters),
+            "window": {k: (list(v) if isinstance(v, list) else v) for k, v in self.window.items()},
+            "rows": list(self.rows),
+            "rng": self.rng.bit_generator.state,
             "env": {k: getattr(env, k).copy() for k in ("map_idx", "goal", "cell", "steps", "min_steps")},
-            "episode_ix": self.episode_ix.copy(), "obs": {k: v.copy() for k, v in self.obs.items()},
+            "episode_ix": self.episode_ix.copy(),
+            "obs": {k: v.copy() for k, v in self.obs.items()},
             "policy": self.policy.state_dict(),
             "grg": self.policy.grg.state_dict() if self.policy.grg is not None else None,
-            "low": self.low.state_dict(), "low_replay": self.low_replay.state_dict(),
+            "low": self.low.state_dict(),
+            "low_replay": self.low_replay.state_dict(),
             "high": self.high.state_dict() if self.high is not None else None,
             "high_replay": self.high_replay.state_dict() if self.high_replay is not None else None,
         }
@@ -266,8 +321,14 @@ class TrainRun:
         is written)."""
         c, k = self.config, self.counters
         with stop_on_interrupt() as stop:
-            bar = tqdm(total=c.episodes, initial=min(k["finished"], c.episodes), unit="ep", desc=f"train {c.method}",
-                       disable=not progress or None, smoothing=0.05)
+            bar = tqdm(
+                total=c.episodes,
+                initial=min(k["finished"], c.episodes),
+                unit="ep",
+                desc=f"train {c.method}",
+                disable=not progress or None,
+                smoothing=0.05,
+            )
             try:
                 t0, wall0 = time.perf_counter(), k["wall_s"]
                 while k["finished"] < c.episodes and not stop.is_set():
@@ -288,11 +349,15 @@ class TrainRun:
             return not stop.is_set()
 
 
-def _run_phase(config: GridAgentConfig, out: Path, maps, progress: bool, fresh: bool, init_low: dict | None) -> TrainRun:
+def _run_phase(
+    config: GridAgentConfig, out: Path, maps, progress: bool, fresh: bool, init_low: dict | None
+) -> TrainRun:
     run = TrainRun(config, out, maps)
     state_path = out / STATE_FILE
     if state_path.exists() and not fresh:
-        torchfile.resume(state_path, config, run.load_state_dict, "episodes", "the state.pt of a grid-world training run")
+        torchfile.resume(
+            state_path, config, run.load_state_dict, "episodes", "the state.pt of a grid-world training run"
+        )
     else:
         if init_low is not None:
             run.policy.low.load_state_dict(init_low)
@@ -304,8 +369,14 @@ def _run_phase(config: GridAgentConfig, out: Path, maps, progress: bool, fresh: 
     return run
 
 
-def train(config: GridAgentConfig, out: str | Path, maps: list[GridMap] | None = None, progress: bool = True,
-          fresh: bool = False, command: str | None = None) -> TrainRun:
+def train(
+    config: GridAgentConfig,
+    out: str | Path,
+    maps: list[GridMap] | None = None,
+    progress: bool = True,
+    fresh: bool = False,
+    command: str | None = None,
+) -> TrainRun:
     """Train ``config`` into ``out`` (resuming what is there), pretraining the low level
     first into ``out/pretrain`` unless ``config.pretrained`` names one."""
     torch.set_num_threads(1)  # tiny networks: threads cost more than they give
@@ -323,8 +394,14 @@ def train(config: GridAgentConfig, out: str | Path, maps: list[GridMap] | None =
         init_low = load_policy_file(Path(config.pretrained))["low"]
     elif config.pretrain_episodes > 0:
         pre_config = replace(
-            config, method="dqn", starts="visible", max_steps=config.option_steps, episodes=config.pretrain_episodes,
-            eps_anneal_episodes=max(1, config.pretrain_episodes // 2), pretrain_episodes=0, pretrained="",
+            config,
+            method="dqn",
+            starts="visible",
+            max_steps=config.option_steps,
+            episodes=config.pretrain_episodes,
+            eps_anneal_episodes=max(1, config.pretrain_episodes // 2),
+            pretrain_episodes=0,
+            pretrained="",
             checkpoint_every=min(config.checkpoint_every, config.pretrain_episodes),
         )
         pre = _run_phase(pre_config, out / "pretrain", maps, progress, fresh, None)

@@ -60,7 +60,9 @@ class QNet(nn.Module):
     def __init__(self, in_channels: int, outputs: int, extra_inputs: int = 0):
         super().__init__()
         self.trunk = ConvTrunk(in_channels)
-        self.head = nn.Sequential(nn.Linear(TRUNK_FEATURES + extra_inputs, HIDDEN), nn.ReLU(), nn.Linear(HIDDEN, outputs))
+        self.head = nn.Sequential(
+            nn.Linear(TRUNK_FEATURES + extra_inputs, HIDDEN), nn.ReLU(), nn.Linear(HIDDEN, outputs)
+        )
         self.extra_inputs = extra_inputs
         for module in self.modules():
             if isinstance(module, (nn.Conv2d, nn.Linear)):

@@ -30,8 +30,12 @@ os.environ.setdefault("MUJOCO_GL", "egl")
 from objsearch.eval.runner import EvalConfig, evaluate  # noqa: E402
 
 PROTOCOL = (("gridworld", "hrl_grg", 1), ("gridworld", "hrl_grg", 64), ("house-single", "hrl_grg", 32))
-CASES = (("gridworld", "hrl_grg", "all-goals"), ("gridworld", "dqn", "all-goals"),
-         ("house-single", "random", "seen-goals"), ("house-single", "hrl_grg", "seen-goals"))
+CASES = (
+    ("gridworld", "hrl_grg", "all-goals"),
+    ("gridworld", "dqn", "all-goals"),
+    ("house-single", "random", "seen-goals"),
+    ("house-single", "hrl_grg", "seen-goals"),
+)
 
 
 def measure(suite: str, agent: str, split: str, batch: int) -> dict:
@@ -53,8 +57,12 @@ def main() -> None:
     parser.add_argument("--batch", type=int, default=64, help="episodes in lockstep (default: 64)")
     parser.add_argument("--json", action="store_true", help="end with one JSON line")
     suites = sorted({case[0] for case in CASES})
-    parser.add_argument("--suite", action="append", choices=suites,
-                        help=f"measure only this suite's cases (repeatable; default: all of {', '.join(suites)})")
+    parser.add_argument(
+        "--suite",
+        action="append",
+        choices=suites,
+        help=f"measure only this suite's cases (repeatable; default: all of {', '.join(suites)})",
+    )
     args = parser.parse_args()
     chosen = set(args.suite or suites)
     figures = {}
@@ -62,8 +70,10 @@ def main() -> None:
         if suite not in chosen:
             continue
         figures[f"{suite}/{agent}"] = m = measure(suite, agent, split, args.batch)
-        print(f"{suite:13s} {agent:8s} {m['batched']:>8.1f} episodes/s batched, {m['single']:>7.1f} one at a time "
-              f"({m['speedup']}x), records identical: {m['identical']}")
+        print(
+            f"{suite:13s} {agent:8s} {m['batched']:>8.1f} episodes/s batched, {m['single']:>7.1f} one at a time "
+            f"({m['speedup']}x), records identical: {m['identical']}"
+        )
     figures["protocol"] = {}
     for suite, agent, batch in PROTOCOL:
         if suite not in chosen:
@@ -72,8 +82,10 @@ def main() -> None:
         results = evaluate(EvalConfig(agent=agent, suite=suite), progress=False, workers=2, batch=batch)
         wall = round(time.perf_counter() - start, 1)
         figures["protocol"][f"{suite}/{agent}/batch{batch}"] = {"episodes": len(results["episodes"]), "wall_s": wall}
-        print(f"{suite:13s} {agent:8s} full protocol: {len(results['episodes'])} episodes in {wall} s "
-              f"(--workers 2 --batch {batch})")
+        print(
+            f"{suite:13s} {agent:8s} full protocol: {len(results['episodes'])} episodes in {wall} s "
+            f"(--workers 2 --batch {batch})"
+        )
     if args.json:
         print(json.dumps(figures))
 

@@ -54,7 +54,9 @@ def bench_batched(num_envs: int, observation: str, seconds: float) -> float:
     from objsearch.gridworld import dataset
     from objsearch.gridworld.batched import BatchedGridWorld
 
-    world = BatchedGridWorld(list(dataset.train_maps().values()), num_envs, observation=observation, rng=np.random.default_rng(0))
+    world = BatchedGridWorld(
+        list(dataset.train_maps().values()), num_envs, observation=observation, rng=np.random.default_rng(0)
+    )
     world.reset()
     actions = np.random.default_rng(1).integers(4, size=(64, num_envs))
     i = 0
@@ -110,14 +112,18 @@ def main() -> None:
     rows: list[tuple[str, int, float | None]] = [("objsearch GridWorld-v0 (gymnasium)", 1, bench_single(args.seconds))]
     for observation in ("goal", "all_goals"):
         for n in (1, 64, 1024, 4096):
-            rows.append((f"objsearch BatchedGridWorld, obs={observation}", n, bench_batched(n, observation, args.seconds)))
+            rows.append(
+                (f"objsearch BatchedGridWorld, obs={observation}", n, bench_batched(n, observation, args.seconds))
+            )
     rows.append(("MiniGrid-Empty-5x5-v0", 1, bench_minigrid(1, args.seconds)))
     rows.append(("MiniGrid-Empty-5x5-v0 (SyncVectorEnv)", 64, bench_minigrid(64, args.seconds)))
 
     if args.json:
         print(json.dumps({f"{name} [N={n}]": (None if v is None else round(v)) for name, n, v in rows}))
         return
-    print(f"machine: {platform.processor() or platform.machine()}, {os.cpu_count()} cores; {args.seconds:.0f} s per row")
+    print(
+        f"machine: {platform.processor() or platform.machine()}, {os.cpu_count()} cores; {args.seconds:.0f} s per row"
+    )
     print(f"{'env':<46}{'batch':>7}{'steps/s':>14}")
     for name, n, value in rows:
         print(f"{name:<46}{n:>7}{'n/a' if value is None else f'{value:,.0f}':>14}")

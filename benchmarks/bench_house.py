@@ -24,8 +24,8 @@ os.environ.setdefault("MUJOCO_GL", "egl")
 sys.path.insert(0, str(Path(__file__).parent))
 
 import numpy as np  # noqa: E402
-
 from bench_render import measure_live_fps, measure_naive_fps  # noqa: E402
+
 from objsearch.sim.cache import HouseCache  # noqa: E402
 from objsearch.sim.camera import AGENT_CAMERA, RenderSettings  # noqa: E402
 from objsearch.sim.env import HouseEnv  # noqa: E402
@@ -47,7 +47,9 @@ def cached_steps_per_s(ref: HouseRef, cache_dir: str, steps: int = 200_000) -> t
     return steps / (time.perf_counter() - wall), steps / (time.process_time() - cpu)
 
 
-def cached_vector_steps_per_s(ref: HouseRef, cache_dir: str, num_envs: int = 256, steps: int = 400) -> tuple[float, float]:
+def cached_vector_steps_per_s(
+    ref: HouseRef, cache_dir: str, num_envs: int = 256, steps: int = 400
+) -> tuple[float, float]:
     """The same through ``HouseVectorEnv`` (same-step autoreset), ``num_envs`` at a time."""
     env = HouseVectorEnv(num_envs, houses=[ref], cache_dir=cache_dir)
     env.reset(seed=0)

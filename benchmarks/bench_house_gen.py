@@ -46,8 +46,12 @@ def main() -> None:
         t4 = time.perf_counter()
         for k, v in zip(stages, (t1 - t0, t2 - t1, t3 - t2, t4 - t3)):
             stages[k].append(v)
-    print(f"houses: {args.seeds} (rooms: {args.rooms or 'per seed'}), objects/house: mean {np.mean(objects):.0f}, max {max(objects)}")
-    print(f"seconds per house: median {statistics.median(times):.3f}, mean {np.mean(times):.3f}, p90 {np.percentile(times, 90):.3f}, max {max(times):.3f}")
+    print(
+        f"houses: {args.seeds} (rooms: {args.rooms or 'per seed'}), objects/house: mean {np.mean(objects):.0f}, max {max(objects)}"
+    )
+    print(
+        f"seconds per house: median {statistics.median(times):.3f}, mean {np.mean(times):.3f}, p90 {np.percentile(times, 90):.3f}, max {max(times):.3f}"
+    )
     print(f"attempts per house: mean {np.mean(attempts):.2f}, max {max(attempts)}")
     print("one attempt, median seconds: " + ", ".join(f"{k} {statistics.median(v):.3f}" for k, v in stages.items()))
 

@@ -52,12 +52,19 @@ def main() -> None:
     for batch in (int(b) for b in args.batches.split(",")):
         rgb = rng.integers(0, 256, (batch, args.size, args.size, 3), dtype=np.uint8)
         results[batch] = statistics.median(frames_per_second(predictor, rgb, args.seconds) for _ in range(args.repeats))
-    info = {"threads": args.threads, "size": args.size, "parameters": count_parameters(model), "torch": torch.__version__,
-            "frames_per_second": {str(b): round(v, 1) for b, v in results.items()}}
+    info = {
+        "threads": args.threads,
+        "size": args.size,
+        "parameters": count_parameters(model),
+        "torch": torch.__version__,
+        "frames_per_second": {str(b): round(v, 1) for b, v in results.items()},
+    }
     if args.json:
         print(json.dumps(info))
         return
-    print(f"SegDepthNet {info['parameters']:,} parameters, {args.size}x{args.size}, {args.threads} thread(s), torch {torch.__version__}")
+    print(
+        f"SegDepthNet {info['parameters']:,} parameters, {args.size}x{args.size}, {args.threads} thread(s), torch {torch.__version__}"
+    )
     print(f"{'batch':>6} {'frames/s':>10}")
     for batch, fps in results.items():
         print(f"{batch:>6} {fps:>10.1f}")

@@ -52,14 +52,17 @@ def _median_seconds(fn, repeats: int) -> float:
     return statistics.median(times)
 
 
-def measure_live_fps(model: mujoco.MjModel, settings: RenderSettings, poses: np.ndarray, repeats: int = 3, **renderer_kwargs) -> float:
+def measure_live_fps(
+    model: mujoco.MjModel, settings: RenderSettings, poses: np.ndarray, repeats: int = 3, **renderer_kwargs
+) -> float:
     """Frames (RGB + depth + semantic + instance) per second of ``HouseRenderer.render(poses)``."""
     with HouseRenderer(model, settings, **renderer_kwargs) as renderer:
         return len(poses) / _median_seconds(lambda: renderer.render(poses), repeats)
 
 
-def measure_naive_fps(model: mujoco.MjModel, settings: RenderSettings, poses: np.ndarray, repeats: int = 3,
-                      offsamples: int | None = None) -> float:
+def measure_naive_fps(
+    model: mujoco.MjModel, settings: RenderSettings, poses: np.ndarray, repeats: int = 3, offsamples: int | None = None
+) -> float:
     """Frames per second of a naive ``mujoco.Renderer`` loop: three renders per pose.
 
     The model's default visual settings are kept (``offsamples`` overrides multisampling
@@ -100,12 +103,48 @@ def ablation(model, poses, naive_poses, repeats) -> list[tuple[str, int, float]]
     rows = []
     for size in (64, 128):
         s = RenderSettings(width=size, height=size)
-        rows.append(("naive mujoco.Renderer, 3 passes, default visuals (4x MSAA)", size, measure_naive_fps(model, s, naive_poses, repeats)))
-        rows.append(("naive mujoco.Renderer, 3 passes, offsamples=0", size, measure_naive_fps(model, s, naive_poses, repeats, offsamples=0)))
-        rows.append(("HouseRenderer, no culling, one read per pose", size, measure_live_fps(model, s, naive_poses, repeats, cull=False)))
-        rows.append(("HouseRenderer, no culling, one read per 256-pose tiled sheet", size, measure_live_fps(model, s, poses, repeats, cull=False, tiles_per_read=256)))
-        rows.append(("HouseRenderer, portal culling, one read per 256-pose tiled sheet", size, measure_live_fps(model, s, poses, repeats, tiles_per_read=256)))
-        rows.append(("HouseRenderer (default: portal culling, one read per pose)", size, measure_live_fps(model, s, poses, repeats)))
+        rows.append(
+            (
+                "naive mujoco.Renderer, 3 passes, default visuals (4x MSAA)",
+                size,
+                measure_naive_fps(model, s, naive_poses, repeats),
+            )
+        )
+        rows.append(
+            (
+                "naive mujoco.Renderer, 3 passes, offsamples=0",
+                size,
+                measure_naive_fps(model, s, naive_poses, repeats, offsamples=0),
+            )
+        )
+        rows.append(
+            (
+                "HouseRenderer, no culling, one read per pose",
+                size,
+                measure_live_fps(model, s, naive_poses, repeats, cull=False),
+            )
+        )
+        rows.append(
+            (
+                "HouseRenderer, no culling, one read per 256-pose tiled sheet",
+                size,
+                measure_live_fps(model, s, poses, repeats, cull=False, tiles_per_read=256),
+            )
+        )
+        rows.append(
+            (
+                "HouseRenderer, portal culling, one read per 256-pose tiled sheet",
+                size,
+                measure_live_fps(model, s, poses, repeats, tiles_per_read=256),
+            )
+        )
+        rows.append(
+            (
+                "HouseRenderer (default: portal culling, one read per pose)",
+                size,
+                measure_live_fps(model, s, poses, repeats),
+            )
+        )
     return rows
 
 

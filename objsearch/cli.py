@@ -32,9 +32,7 @@ def build_parser() -> argparse.ArgumentParser:
     """The ``objsearch`` parser, with a subcommand from every module in ``COMMANDS``."""
     from objsearch import __version__
 
-    parser = argparse.ArgumentParser(
-        prog="objsearch", description="Benchmark suite for goal-driven object search."
-    )
+    parser = argparse.ArgumentParser(prog="objsearch", description="Benchmark suite for goal-driven object search.")
     parser.add_argument("--version", action="version", version=f"objsearch {__version__}")
     subparsers = parser.add_subparsers(dest="command", metavar="COMMAND", required=True)
     for module in COMMANDS:

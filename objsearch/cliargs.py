@@ -40,7 +40,9 @@ def seed_list(text: str) -> tuple[int, ...]:
     try:
         seeds = tuple(int(s) for s in text.split(",") if s.strip())
     except ValueError:
-        raise argparse.ArgumentTypeError(f"seeds must be comma-separated integers, e.g. 1,5,13 (got {text!r})") from None
+        raise argparse.ArgumentTypeError(
+            f"seeds must be comma-separated integers, e.g. 1,5,13 (got {text!r})"
+        ) from None
     if not seeds:
         raise argparse.ArgumentTypeError("give at least one seed")
     return seeds

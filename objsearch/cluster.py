@@ -31,14 +31,25 @@ EXECUTORS = ("local", "ray")
 def add_executor_arguments(parser: argparse.ArgumentParser, output: str) -> None:
     """``--executor``, ``--address`` and ``--workers`` of a command that builds ``output``
     house by house."""
-    parser.add_argument("--executor", choices=EXECUTORS, default="local",
-                        help=f"local: this machine (default); ray: one Ray task per house over a cluster, "
-                             f"all writing to {output} (on a cluster: a filesystem every node shares)")
-    parser.add_argument("--address", metavar="ADDR",
-                        help="with --executor ray: the cluster's address (default: start a local Ray cluster)")
-    parser.add_argument("--workers", type=positive_int, metavar="N",
-                        help="houses at once: local worker processes, or the CPUs of the local Ray cluster "
-                             "(default: 1 locally, every core with --executor ray)")
+    parser.add_argument(
+        "--executor",
+        choices=EXECUTORS,
+        default="local",
+        help=f"local: this machine (default); ray: one Ray task per house over a cluster, "
+        f"all writing to {output} (on a cluster: a filesystem every node shares)",
+    )
+    parser.add_argument(
+        "--address",
+        metavar="ADDR",
+        help="with --executor ray: the cluster's address (default: start a local Ray cluster)",
+    )
+    parser.add_argument(
+        "--workers",
+        type=positive_int,
+        metavar="N",
+        help="houses at once: local worker processes, or the CPUs of the local Ray cluster "
+        "(default: 1 locally, every core with --executor ray)",
+    )
 
 
 def check_address(address: str | None, executor: str) -> None:
@@ -51,7 +62,9 @@ def check_executor_arguments(args: argparse.Namespace) -> None:
     """Refuse combinations of ``add_executor_arguments``' flags that would be ignored."""
     check_address(args.address, args.executor)
     if args.workers is not None and args.address is not None:
-        raise UserError("--workers sizes a run on this machine; with --address the cluster's CPUs decide: drop --workers")
+        raise UserError(
+            "--workers sizes a run on this machine; with --address the cluster's CPUs decide: drop --workers"
+        )
 
 
 def one_math_thread() -> None:
@@ -98,8 +111,12 @@ def local_pool(workers: int, initializer: Callable | None = None, initargs: tupl
     """Spawned worker processes (no fork: torch and EGL dislike it) that run one math
     thread and die with this process; on an error (Ctrl-C, a crash) they are stopped at
     once, not after their tasks."""
-    pool = cf.ProcessPoolExecutor(workers, mp_context=multiprocessing.get_context("spawn"), initializer=_start_worker,
-                                  initargs=(os.getpid(), initializer, initargs))
+    pool = cf.ProcessPoolExecutor(
+        workers,
+        mp_context=multiprocessing.get_context("spawn"),
+        initializer=_start_worker,
+        initargs=(os.getpid(), initializer, initargs),
+    )
     try:
         yield pool
     except BaseException:
@@ -130,8 +147,15 @@ def ray_session(address: str | None = None, num_cpus: int | None = None):
             ray.shutdown()
 
 
-def map_houses(fn: Callable, items: Iterable, executor: str = "local", address: str | None = None,
-               workers: int | None = None, desc: str = "houses", progress: bool = True) -> list:
+def map_houses(
+    fn: Callable,
+    items: Iterable,
+    executor: str = "local",
+    address: str | None = None,
+    workers: int | None = None,
+    desc: str = "houses",
+    progress: bool = True,
+) -> list:
     """``[fn(item) for item in items]``, one house an item, with a progress bar over finished houses.
 
     Args:

@@ -78,8 +78,9 @@ class JsonConfig:
             if new is None:
                 continue
             if new in data:
-                raise UserError(f"both {old!r} and {new!r} are set, but {old!r} is the old name of {new!r}; "
-                                f"keep only {new!r}")
+                raise UserError(
+                    f"both {old!r} and {new!r} are set, but {old!r} is the old name of {new!r}; keep only {new!r}"
+                )
             data[new] = value
         return data
 
@@ -106,7 +107,9 @@ class JsonConfig:
         try:
             data = json.loads(path.read_text())
         except OSError as err:
-            raise UserError(f"cannot read {path} ({err.strerror or err}); pass a {path.name} written by objsearch") from None
+            raise UserError(
+                f"cannot read {path} ({err.strerror or err}); pass a {path.name} written by objsearch"
+            ) from None
         except ValueError as err:
             raise UserError(f"{path} is not JSON ({err}); pass a {path.name} written by objsearch") from None
         return cls.from_json(data, source=path)
@@ -143,19 +146,31 @@ def from_data(cls: type, data: Any, where: str = "") -> Any:
     if unknown:
         guess = difflib.get_close_matches(str(unknown[0]), list(known), n=1)
         hint = f" (did you mean {guess[0]!r}?)" if guess else ""
-        legacy = f" (a field renamed or removed since belongs in {cls.__name__}.LEGACY_KEYS)" if issubclass(cls, JsonConfig) else ""
-        raise UserError(f"unknown key{'s' if len(unknown) > 1 else ''} {', '.join(map(repr, unknown))}{at}: {cls.__name__} "
-                        f"has no such field{hint}; delete it if it is a mistake, or read the file with the objsearch "
-                        f"version that wrote it{legacy}")
-    missing = [name for name, f in known.items() if name not in data
-               and f.default is dataclasses.MISSING and f.default_factory is dataclasses.MISSING]
+        legacy = (
+            f" (a field renamed or removed since belongs in {cls.__name__}.LEGACY_KEYS)"
+            if issubclass(cls, JsonConfig)
+            else ""
+        )
+        raise UserError(
+            f"unknown key{'s' if len(unknown) > 1 else ''} {', '.join(map(repr, unknown))}{at}: {cls.__name__} "
+            f"has no such field{hint}; delete it if it is a mistake, or read the file with the objsearch "
+            f"version that wrote it{legacy}"
+        )
+    missing = [
+        name
+        for name, f in known.items()
+        if name not in data and f.default is dataclasses.MISSING and f.default_factory is dataclasses.MISSING
+    ]
     if missing:
-        raise UserError(f"missing key{'s' if len(missing) > 1 else ''} {', '.join(map(repr, missing))}{at} "
-                        f"({cls.__name__} needs {'them' if len(missing) > 1 else 'it'}); the file is incomplete: "
-                        "write it again with objsearch")
+        raise UserError(
+            f"missing key{'s' if len(missing) > 1 else ''} {', '.join(map(repr, missing))}{at} "
+            f"({cls.__name__} needs {'them' if len(missing) > 1 else 'it'}); the file is incomplete: "
+            "write it again with objsearch"
+        )
     hints = _hints(cls)
-    return cls(**{key: _decode(hints.get(key, Any), value, f"{where}.{key}" if where else key)
-                  for key, value in data.items()})
+    return cls(
+        **{key: _decode(hints.get(key, Any), value, f"{where}.{key}" if where else key) for key, value in data.items()}
+    )
 
 
 @functools.cache
@@ -182,7 +197,9 @@ def _decode(hint: Any, value: Any, where: str) -> Any:
             return tuple(_decode(args[0], v, f"{where}[{i}]") for i, v in enumerate(value))
         if args and len(args) != len(value):
             raise UserError(f"{where} must be a list of {len(args)}, got {value!r}")
-        return tuple(_decode(a, v, f"{where}[{i}]") for i, (a, v) in enumerate(zip(args, value))) if args else tuple(value)
+        return (
+            tuple(_decode(a, v, f"{where}[{i}]") for i, (a, v) in enumerate(zip(args, value))) if args else tuple(value)
+        )
     if hint is float:
         if isinstance(value, bool) or not isinstance(value, (int, float)):
             raise UserError(f"{where} must be a number, got {value!r}")
@@ -212,8 +229,10 @@ def typed_field(config, key: str, text: str, prefix: str = ""):
     if key not in names:
         guess = difflib.get_close_matches(key, names, n=1)
         hint = f" (did you mean {prefix}{guess[0]}?)" if guess else ""
-        raise UserError(f"unknown config field {prefix + key!r} of {type(config).__name__}{hint}; "
-                        f"fields: {', '.join(prefix + k for k in sorted(names))}")
+        raise UserError(
+            f"unknown config field {prefix + key!r} of {type(config).__name__}{hint}; "
+            f"fields: {', '.join(prefix + k for k in sorted(names))}"
+        )
     if dataclasses.is_dataclass(getattr(config, key)):
         raise UserError(f"config field {prefix}{key} is a group of fields; set them as {prefix}{key}.FIELD=VALUE")
     kind = _field_kind(config, key)

@@ -30,31 +30,51 @@ def add_parser(subparsers) -> None:
     """Add ``objsearch data`` (``rebuild gridworld|assets|suites``, ``agent-io-doc``) to ``subparsers``."""
     from objsearch.sim.suites import SUITE_NAMES
 
-    parser = subparsers.add_parser("data", help="rebuild the benchmark's fixed data (maps, meshes, suite files)",
-                                   description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    parser = subparsers.add_parser(
+        "data",
+        help="rebuild the benchmark's fixed data (maps, meshes, suite files)",
+        description=__doc__,
+        formatter_class=argparse.RawDescriptionHelpFormatter,
+    )
     commands = parser.add_subparsers(dest="data_command", metavar="ACTION", required=True)
-    rebuild = commands.add_parser("rebuild", help="rebuild fixed data from its seeds (deliberately: bump its version)",
-                                  description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    rebuild = commands.add_parser(
+        "rebuild",
+        help="rebuild fixed data from its seeds (deliberately: bump its version)",
+        description=__doc__,
+        formatter_class=argparse.RawDescriptionHelpFormatter,
+    )
     what = rebuild.add_subparsers(dest="data_kind", metavar="DATA", required=True)
 
     grid = what.add_parser("gridworld", help="the grid-world maps (100 train, 20 test) and task lists (seconds)")
-    grid.add_argument("--out", type=Path, metavar="DIR",
-                      help="folder to write train/, test/, tasks/, VERSION.json to (default: the shipped "
-                           "objsearch/gridworld/data)")
+    grid.add_argument(
+        "--out",
+        type=Path,
+        metavar="DIR",
+        help="folder to write train/, test/, tasks/, VERSION.json to (default: the shipped objsearch/gridworld/data)",
+    )
     grid.set_defaults(func=run_gridworld)
 
     assets = what.add_parser("assets", help="the house object meshes and manifest.json (seconds)")
-    assets.add_argument("--out", type=Path, metavar="DIR",
-                        help="assets folder to write meshes/ to (default: $OBJSEARCH_ASSETS or the repository's assets/)")
+    assets.add_argument(
+        "--out",
+        type=Path,
+        metavar="DIR",
+        help="assets folder to write meshes/ to (default: $OBJSEARCH_ASSETS or the repository's assets/)",
+    )
     assets.set_defaults(func=run_assets)
 
     suites = what.add_parser("suites", help="shipped house suite files, as objsearch suite rebuild does (minutes each)")
-    suites.add_argument("names", nargs="+", choices=SUITE_NAMES, metavar="NAME", help=f"one of {', '.join(SUITE_NAMES)}")
+    suites.add_argument(
+        "names", nargs="+", choices=SUITE_NAMES, metavar="NAME", help=f"one of {', '.join(SUITE_NAMES)}"
+    )
     suites.add_argument("--cache-dir", help="observation cache (default: $OBJSEARCH_CACHE or ~/.cache/objsearch)")
     suites.set_defaults(func=run_suites)
 
-    doc = what.add_parser("agent-io-doc", help="the 'Actions and observations' section of docs/add_your_agent.md, "
-                                               "rendered from the suites' envs (seconds; a checkout only)")
+    doc = what.add_parser(
+        "agent-io-doc",
+        help="the 'Actions and observations' section of docs/add_your_agent.md, "
+        "rendered from the suites' envs (seconds; a checkout only)",
+    )
     doc.add_argument("--check", action="store_true", help="only compare: exit 1 if the doc's section is stale")
     doc.set_defaults(func=run_agent_io_doc)
 
@@ -73,8 +93,11 @@ def run_gridworld(args: argparse.Namespace) -> int:
 
     out = _out_folder(args.out, DATA_DIR)
     build(out)
-    print(f"wrote {NUM_TRAIN_MAPS} training maps, {NUM_TEST_MAPS} test maps and the task lists "
-          f"{', '.join(SPLIT_GOALS)} ({DATA_VERSION}) under {out}", file=sys.stderr)
+    print(
+        f"wrote {NUM_TRAIN_MAPS} training maps, {NUM_TEST_MAPS} test maps and the task lists "
+        f"{', '.join(SPLIT_GOALS)} ({DATA_VERSION}) under {out}",
+        file=sys.stderr,
+    )
     return 0
 
 
@@ -85,8 +108,10 @@ def run_assets(args: argparse.Namespace) -> int:
     out = _out_folder(args.out, assets_dir())
     manifest = build_assets(out)
     n = sum(len(v) for v in manifest["categories"].values())
-    print(f"wrote {n} meshes for {len(manifest['categories'])} categories ({manifest['version']}) under "
-          f"{out / 'meshes'}", file=sys.stderr)
+    print(
+        f"wrote {n} meshes for {len(manifest['categories'])} categories ({manifest['version']}) under {out / 'meshes'}",
+        file=sys.stderr,
+    )
     return 0
 
 

@@ -45,8 +45,10 @@ def recorded(folder: str | os.PathLike) -> dict[str, str]:
     for number, line in enumerate(text.splitlines(), 1):
         digest, sep, name = line.partition("  ")
         if not sep or len(digest) != 64 or not name:
-            raise UserError(f"{path} line {number} is not `SHA256  NAME`; restore the file, or delete it to load "
-                            "the folder's files unverified")
+            raise UserError(
+                f"{path} line {number} is not `SHA256  NAME`; restore the file, or delete it to load "
+                "the folder's files unverified"
+            )
         sums[name.lstrip("*")] = digest
     return sums
 
@@ -67,9 +69,11 @@ def verify(path: str | os.PathLike) -> str:
     digest = sha256_file(path)
     expected = recorded(path.parent).get(path.name)
     if expected is not None and expected != digest:
-        raise UserError(f"{path} does not match its digest in {path.parent / SUMS} (sha256 {digest[:12]}, recorded "
-                        f"{expected[:12]}): the file is damaged or was changed after it was written; restore it "
-                        "(git checkout, or copy it again), or retrain")
+        raise UserError(
+            f"{path} does not match its digest in {path.parent / SUMS} (sha256 {digest[:12]}, recorded "
+            f"{expected[:12]}): the file is damaged or was changed after it was written; restore it "
+            "(git checkout, or copy it again), or retrain"
+        )
     return digest
 
 

@@ -132,6 +132,8 @@ def check_writable(path: str | os.PathLike, what: str, folder: bool = False) -> 
         with tempfile.TemporaryFile(dir=target):
             pass
     except OSError as err:
-        raise UserError(f"{what} {path}: cannot write in {target} ({err.strerror}); choose a place you can write to") from None
+        raise UserError(
+            f"{what} {path}: cannot write in {target} ({err.strerror}); choose a place you can write to"
+        ) from None
     if not folder and path.exists() and not os.access(path, os.W_OK):
         raise UserError(f"{what} {path}: no permission to overwrite it; choose another file")

@@ -26,11 +26,19 @@ WORLDS = ("gridworld", "house")
 
 def add_parser(subparsers) -> None:
     """Add ``objsearch plot`` (``grg``) to ``subparsers``."""
-    parser = subparsers.add_parser("plot", help="figures of what an agent learned (the GRG of HRL-GRG)",
-                                   description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    parser = subparsers.add_parser(
+        "plot",
+        help="figures of what an agent learned (the GRG of HRL-GRG)",
+        description=__doc__,
+        formatter_class=argparse.RawDescriptionHelpFormatter,
+    )
     commands = parser.add_subparsers(dest="plot_command", metavar="FIGURE", required=True)
-    grg = commands.add_parser("grg", help="draw a learned Goals Relational Graph (grid world or house) as a PNG",
-                              description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    grg = commands.add_parser(
+        "grg",
+        help="draw a learned Goals Relational Graph (grid world or house) as a PNG",
+        description=__doc__,
+        formatter_class=argparse.RawDescriptionHelpFormatter,
+    )
     grg.add_argument("run", metavar="RUN", help="checkpoint or run folder with grg.npz, or a grg.npz file")
     grg.add_argument("--out", default="grg.png", help="PNG to write (default: grg.png)")
     grg.add_argument("--world", choices=WORLDS, help="the world the graph must be of (default: told by the graph)")
@@ -45,8 +53,10 @@ def run_grg(args: argparse.Namespace) -> int:
     except ModuleNotFoundError as err:
         if not (err.name or "").startswith("objsearch_agents"):
             raise
-        raise UserError("objsearch plot grg draws with the reference agents (objsearch_agents), which are not "
-                        "installed; install the objsearch distribution with its agents (pip install -e .)") from None
+        raise UserError(
+            "objsearch plot grg draws with the reference agents (objsearch_agents), which are not "
+            "installed; install the objsearch distribution with its agents (pip install -e .)"
+        ) from None
     for line in plot_grg(args.run, args.out, world=args.world, edges=args.edges):
         print(line)
     return 0

@@ -73,7 +73,11 @@ def load(path: str | os.PathLike, expected: str):
         raise
     except Exception as err:  # torch raises many kinds for a damaged, foreign or code-carrying file
         first = str(err).strip().splitlines()[0] if str(err).strip() else ""
-        reason = first if first and "weights_only" not in first else "not a weights-only checkpoint (damaged, or it holds code)"
+        reason = (
+            first
+            if first and "weights_only" not in first
+            else "not a weights-only checkpoint (damaged, or it holds code)"
+        )
         if path.stat().st_size == 0:
             reason = "the file is empty"
         raise UserError(f"cannot read checkpoint {path}: {reason}; expected {expected}") from None
@@ -88,11 +92,15 @@ def fitting(path: str | os.PathLike, expected: str):
         yield
     except (KeyError, TypeError, ValueError, AttributeError, RuntimeError) as err:
         reason = str(err).strip().splitlines()[0] if str(err).strip() else type(err).__name__
-        raise UserError(f"checkpoint {path} does not hold what it should ({type(err).__name__}: {reason[:200]}); "
-                        f"expected {expected}") from None
+        raise UserError(
+            f"checkpoint {path} does not hold what it should ({type(err).__name__}: {reason[:200]}); "
+            f"expected {expected}"
+        ) from None
 
 
-def resume(path: str | os.PathLike, config, restore, budget: str | None = None, expected: str = "a training run's state.pt"):
+def resume(
+    path: str | os.PathLike, config, restore, budget: str | None = None, expected: str = "a training run's state.pt"
+):
     """Resume a training run from its ``state.pt`` at ``path``: read it, refuse one written
     with another ``config`` (a dataclass with ``to_json``/``from_json``; the field ``budget``,
     the run's length, may differ: a rerun extends it), then ``restore(state)``. Contents that
@@ -105,6 +113,8 @@ def resume(path: str | os.PathLike, config, restore, budget: str | None = None, 
             saved = dataclasses.replace(saved, **{budget: getattr(config, budget)})
         if saved != config:
             diff = [f for f, v in config.to_json().items() if saved.to_json().get(f) != v]
-            raise UserError(f"{path.parent} holds a run with another config (fields {', '.join(diff)}); "
-                            "pass another --out, the same settings, or --fresh to start over")
+            raise UserError(
+                f"{path.parent} holds a run with another config (fields {', '.join(diff)}); "
+                "pass another --out, the same settings, or --fresh to start over"
+            )
         restore(state)

@@ -24,16 +24,35 @@ from objsearch.errors import UserError
 
 def add_parser(subparsers) -> None:
     """Add ``objsearch train`` to ``subparsers``."""
-    parser = subparsers.add_parser("train", help="train an agent on a suite (resumable)", description=__doc__,
-                                   formatter_class=argparse.RawDescriptionHelpFormatter)
+    parser = subparsers.add_parser(
+        "train",
+        help="train an agent on a suite (resumable)",
+        description=__doc__,
+        formatter_class=argparse.RawDescriptionHelpFormatter,
+    )
     parser.add_argument("--agent", required=True, help="registered agent name or package.module:Class")
     parser.add_argument("--suite", default="gridworld", help="suite to train on (default: gridworld)")
-    parser.add_argument("--episodes", type=non_negative_int, help="training episodes (default: the agent's, the paper's 100000)")
-    parser.add_argument("--steps", type=non_negative_int, help="house agents: environment steps of the main phase (default: the agent's)")
+    parser.add_argument(
+        "--episodes", type=non_negative_int, help="training episodes (default: the agent's, the paper's 100000)"
+    )
+    parser.add_argument(
+        "--steps",
+        type=non_negative_int,
+        help="house agents: environment steps of the main phase (default: the agent's)",
+    )
     parser.add_argument("--seed", type=non_negative_int, default=0, help="run seed (default: 0)")
-    parser.add_argument("--out", help="run directory (default: runs/SUITE/AGENT-seedS); an existing run there is resumed")
-    parser.add_argument("--set", action="append", type=key_value, default=[], dest="overrides", metavar="KEY=VALUE",
-                        help="override a field of the agent's training config; repeatable")
+    parser.add_argument(
+        "--out", help="run directory (default: runs/SUITE/AGENT-seedS); an existing run there is resumed"
+    )
+    parser.add_argument(
+        "--set",
+        action="append",
+        type=key_value,
+        default=[],
+        dest="overrides",
+        metavar="KEY=VALUE",
+        help="override a field of the agent's training config; repeatable",
+    )
     parser.add_argument("--fresh", action="store_true", help="start over even if --out holds a run")
     parser.add_argument("--quiet", action="store_true", help="no progress bar")
     parser.set_defaults(func=run)
@@ -54,8 +73,17 @@ def run(args: argparse.Namespace) -> int:
     command = "objsearch " + " ".join(shlex.quote(a) for a in sys.argv[1:]) if sys.argv[1:2] == ["train"] else None
     budget = {"episodes": args.episodes} if args.steps is None else {"episodes": args.episodes, "steps": args.steps}
     summary = trainer(
-        suite=args.suite, out=out, seed=args.seed, overrides=dict(args.overrides), fresh=args.fresh,
-        progress=not args.quiet, command=command, **budget,
+        suite=args.suite,
+        out=out,
+        seed=args.seed,
+        overrides=dict(args.overrides),
+        fresh=args.fresh,
+        progress=not args.quiet,
+        command=command,
+        **budget,
     )
-    print(f"{args.agent}: {summary.get('finished')} episodes, {summary.get('env_steps')} env steps in {out}", file=sys.stderr)
+    print(
+        f"{args.agent}: {summary.get('finished')} episodes, {summary.get('env_steps')} env steps in {out}",
+        file=sys.stderr,
+    )
     return 130 if summary.get("interrupted") else 0

@@ -27,8 +27,21 @@ def test_list_agents():
 
 
 def test_eval_prints_the_table_and_writes_results(tmp_path):
-    out = run("objsearch", "eval", "--agent", "oracle", "--suite", "gridworld", "--split", "unseen-goals", "--seeds", "1,5",
-              "--out", str(tmp_path / "r.json"), "--quiet")
+    out = run(
+        "objsearch",
+        "eval",
+        "--agent",
+        "oracle",
+        "--suite",
+        "gridworld",
+        "--split",
+        "unseen-goals",
+        "--seeds",
+        "1,5",
+        "--out",
+        str(tmp_path / "r.json"),
+        "--quiet",
+    )
     assert out.returncode == 0, out.stderr
     assert "Unseen Goals" in out.stdout and "AS / MS" in out.stdout
     assert "oracle" in out.stdout and "1.00" in out.stdout
@@ -42,8 +55,20 @@ def test_eval_prints_the_table_and_writes_results(tmp_path):
 
 
 def test_without_suite_eval_runs_the_house_benchmark_and_maps_imply_the_grid_world(tmp_path, cache_dir, user_maps):
-    out = run("objsearch-eval", "--agent", "oracle", "--split", "seen-goals", "--seeds", "1", "--cache-dir", cache_dir,
-              "--out", str(tmp_path / "r.json"), "--quiet")
+    out = run(
+        "objsearch-eval",
+        "--agent",
+        "oracle",
+        "--split",
+        "seen-goals",
+        "--seeds",
+        "1",
+        "--cache-dir",
+        cache_dir,
+        "--out",
+        str(tmp_path / "r.json"),
+        "--quiet",
+    )
     assert out.returncode == 0, out.stderr
     assert json.loads((tmp_path / "r.json").read_text())["suite"] == "house-single"
     (user_maps / "t.jsonl").write_text('{"map": "map_0100", "start": [1, 1], "goal": 0}\n')
@@ -89,7 +114,9 @@ def test_corrupt_map_file(user_maps):
 
 
 def test_malformed_task_line(user_maps):
-    (user_maps / "t.jsonl").write_text('{"map": "map_0100", "start": [1, 1], "goal": 0}\n{"map": "map_0100", "start": [1, 1]\n')
+    (user_maps / "t.jsonl").write_text(
+        '{"map": "map_0100", "start": [1, 1], "goal": 0}\n{"map": "map_0100", "start": [1, 1]\n'
+    )
     out = run("objsearch-eval", "--maps", str(user_maps / "maps"), "--tasks", str(user_maps / "t.jsonl"))
     assert_clean_error(out, "t.jsonl:2", "malformed task line")
 
@@ -111,8 +138,11 @@ def test_maps_without_tasks():
 
 
 def test_a_flag_of_other_suites_is_refused_naming_the_suites_that_take_it(user_maps):
-    assert_clean_error(run("objsearch-eval", "--suite", "gridworld", "--render", "live"),
-                       "--render does not apply to suite 'gridworld'", "house-single, house-multi, house-gen, suite files")
+    assert_clean_error(
+        run("objsearch-eval", "--suite", "gridworld", "--render", "live"),
+        "--render does not apply to suite 'gridworld'",
+        "house-single, house-multi, house-gen, suite files",
+    )
     out = run("objsearch-eval", "--suite", "house-single", "--maps", str(user_maps / "maps"), "--tasks", "t.jsonl")
     assert_clean_error(out, "--maps does not apply to suite 'house-single'", "suites that take it: gridworld")
 
@@ -125,13 +155,25 @@ def test_bad_seeds_are_rejected_by_the_parser():
 def test_failed_episodes_are_reported_first_and_a_run_that_never_ran_exits_non_zero():
     env = {**os.environ, "PYTHONPATH": str(Path(__file__).parent / "eval")}
     args = ["--suite", "gridworld", "--split", "unseen-goals", "--seeds", "1", "--quiet"]
-    out = subprocess.run([str(BIN / "objsearch-eval"), "--agent", "agents_for_tests:BadActionAgent", *args],
-                         capture_output=True, text=True, env=env, timeout=300)
+    out = subprocess.run(
+        [str(BIN / "objsearch-eval"), "--agent", "agents_for_tests:BadActionAgent", *args],
+        capture_output=True,
+        text=True,
+        env=env,
+        timeout=300,
+    )
     assert out.returncode == 1, out.stderr
-    assert out.stderr.startswith("100 of 100 episode(s) failed with an agent error; the first, unseen-goals/seed 1/0: ValueError")
+    assert out.stderr.startswith(
+        "100 of 100 episode(s) failed with an agent error; the first, unseen-goals/seed 1/0: ValueError"
+    )
     assert "every episode failed" in out.stderr
-    some = subprocess.run([str(BIN / "objsearch-eval"), "--agent", "agents_for_tests:RaisingAgent", *args],
-                          capture_output=True, text=True, env=env, timeout=300)
+    some = subprocess.run(
+        [str(BIN / "objsearch-eval"), "--agent", "agents_for_tests:RaisingAgent", *args],
+        capture_output=True,
+        text=True,
+        env=env,
+        timeout=300,
+    )
     assert some.returncode == 0 and some.stderr.startswith("50 of 100 episode(s) failed"), some.stderr
 
 
@@ -150,7 +192,9 @@ class _Evil:
         return (Path.touch, (Path(self.target),))
 
 
-@pytest.mark.parametrize("agent, suite", [("hrl_grg", "gridworld"), ("hrl_grg", "house-single"), ("a3c", "house-single")])
+@pytest.mark.parametrize(
+    "agent, suite", [("hrl_grg", "gridworld"), ("hrl_grg", "house-single"), ("a3c", "house-single")]
+)
 def test_checkpoints_are_data_not_code(tmp_path, agent, suite):
     import torch
 
@@ -165,5 +209,7 @@ def test_checkpoints_are_data_not_code(tmp_path, agent, suite):
         out = run("objsearch-eval", "--agent", agent, "--suite", suite, "--checkpoint", str(tmp_path / name), "--quiet")
         assert_clean_error(out, "cannot read checkpoint", name)
     assert not marker.exists(), "loading a checkpoint ran code"
-    wrong = run("objsearch-eval", "--agent", agent, "--suite", suite, "--checkpoint", str(tmp_path / "whole.pt"), "--quiet")
+    wrong = run(
+        "objsearch-eval", "--agent", agent, "--suite", suite, "--checkpoint", str(tmp_path / "whole.pt"), "--quiet"
+    )
     assert_clean_error(wrong, "whole.pt")

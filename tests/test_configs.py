@@ -64,7 +64,9 @@ def test_a_misspelt_key_gets_a_suggestion_and_a_nested_one_its_path():
 def test_house_spec_refuses_unknown_keys_at_any_depth():
     data = json.loads(GOLDEN_SPECS[0].read_text())
     data["rooms"][1]["ceiling"] = "high"
-    with pytest.raises(UserError, match=r"spec.json is not a house spec \(HouseSpec\): unknown key 'ceiling' at rooms\[1\]"):
+    with pytest.raises(
+        UserError, match=r"spec.json is not a house spec \(HouseSpec\): unknown key 'ceiling' at rooms\[1\]"
+    ):
         HouseSpec.from_json(data, "spec.json")
 
 
@@ -140,7 +142,9 @@ def test_house_spec_legacy_hook_refuses_other_schema_versions():
 
 
 def test_with_overrides_types_every_kind_of_field():
-    config = GridAgentConfig().with_overrides({"relation": "false", "num_envs": "8", "lr": "3e-4", "pretrained": "p.pt"})
+    config = GridAgentConfig().with_overrides(
+        {"relation": "false", "num_envs": "8", "lr": "3e-4", "pretrained": "p.pt"}
+    )
     assert (config.relation, config.num_envs, config.lr, config.pretrained) == (False, 8, 3e-4, "p.pt")
     train = TrainConfig().with_overrides({"steps": "5", "model.stem": "16", "model.aspp_rates": "1,3"})
     assert (train.steps, train.model.stem, train.model.aspp_rates) == (5, 16, (1, 3))
@@ -148,20 +152,23 @@ def test_with_overrides_types_every_kind_of_field():
     assert HouseAgentConfig().with_overrides({}) == HouseAgentConfig()
 
 
-@pytest.mark.parametrize("overrides, message", [
-    ({"steps": "eight"}, "config field steps takes an int, got 'eight'"),
-    ({"lr": "fast"}, "config field lr takes a float, got 'fast'"),
-    ({"augment": "maybe"}, "config field augment takes a bool"),
-    ({"model.stem": "1.5"}, "config field model.stem takes an int, got '1.5'"),
-    ({"model.stem": "0"}, "model config field stem must be a positive integer"),
-    ({"model.aspp_rates": "2,x"}, "model.aspp_rates takes a comma-separated list (1,2,3)"),
-    ({"no_such": "1"}, "unknown config field 'no_such' of TrainConfig"),
-    ({"model.wide": "1"}, "unknown config field 'model.wide' of ModelConfig"),
-    ({"model": "1"}, "config field model is a group of fields; set them as model.FIELD=VALUE"),
-    ({"stepz": "1"}, "did you mean steps"),
-    ({"steps": "0"}, "steps must be >= 1"),
-    ({"class_weighting": "median"}, "class_weighting must be one of"),
-])
+@pytest.mark.parametrize(
+    "overrides, message",
+    [
+        ({"steps": "eight"}, "config field steps takes an int, got 'eight'"),
+        ({"lr": "fast"}, "config field lr takes a float, got 'fast'"),
+        ({"augment": "maybe"}, "config field augment takes a bool"),
+        ({"model.stem": "1.5"}, "config field model.stem takes an int, got '1.5'"),
+        ({"model.stem": "0"}, "model config field stem must be a positive integer"),
+        ({"model.aspp_rates": "2,x"}, "model.aspp_rates takes a comma-separated list (1,2,3)"),
+        ({"no_such": "1"}, "unknown config field 'no_such' of TrainConfig"),
+        ({"model.wide": "1"}, "unknown config field 'model.wide' of ModelConfig"),
+        ({"model": "1"}, "config field model is a group of fields; set them as model.FIELD=VALUE"),
+        ({"stepz": "1"}, "did you mean steps"),
+        ({"steps": "0"}, "steps must be >= 1"),
+        ({"class_weighting": "median"}, "class_weighting must be one of"),
+    ],
+)
 def test_with_overrides_refuses_bad_values_and_unknown_fields(overrides, message):
     with pytest.raises(UserError) as err:
         TrainConfig().with_overrides(overrides)
@@ -179,7 +186,9 @@ def test_the_shipped_checkpoints_are_found():
     assert len(AGENT_CONFIGS) >= 20 and all((p.parent / "policy.pt").is_file() for p in AGENT_CONFIGS)
 
 
-@pytest.mark.parametrize("path", AGENT_CONFIGS, ids=lambda p: str(p.relative_to(ROOT / "agents" / "checkpoints").parent))
+@pytest.mark.parametrize(
+    "path", AGENT_CONFIGS, ids=lambda p: str(p.relative_to(ROOT / "agents" / "checkpoints").parent)
+)
 def test_every_shipped_agent_config_and_policy_loads_through_its_class(path):
     cls = _agent_config_class(path)
     config = cls.load(path)

@@ -49,13 +49,16 @@ def test_cache_command_is_unchanged(capsys):
     assert "--observation" in capsys.readouterr().out
 
 
-@pytest.mark.parametrize("module, command", [
-    ("objsearch.gridworld.dataset", "objsearch data rebuild gridworld"),
-    ("objsearch.house.assets", "objsearch data rebuild assets"),
-    ("objsearch.eval.agent_io", "objsearch data rebuild agent-io-doc [--check]"),
-    ("objsearch_agents.grg_plot", "objsearch plot grg RUN"),
-    ("objsearch_agents.house.grg_figure", "objsearch plot grg RUN"),
-])
+@pytest.mark.parametrize(
+    "module, command",
+    [
+        ("objsearch.gridworld.dataset", "objsearch data rebuild gridworld"),
+        ("objsearch.house.assets", "objsearch data rebuild assets"),
+        ("objsearch.eval.agent_io", "objsearch data rebuild agent-io-doc [--check]"),
+        ("objsearch_agents.grg_plot", "objsearch plot grg RUN"),
+        ("objsearch_agents.house.grg_figure", "objsearch plot grg RUN"),
+    ],
+)
 def test_old_entry_points_name_the_new_command(tmp_path, module, command):
     out = subprocess.run([sys.executable, "-m", module, str(tmp_path)], capture_output=True, text=True, timeout=120)
     assert out.returncode == 1 and command in out.stderr, out.stderr
@@ -65,13 +68,20 @@ def test_old_entry_points_name_the_new_command(tmp_path, module, command):
 def test_plot_grg_in_a_subprocess(tmp_path):
     """As a user runs it: the shipped grid-world checkpoint gives a PNG; a bad RUN exits 2 naming it."""
     checkpoint = Path(__file__).resolve().parents[1] / "agents" / "checkpoints" / "gridworld" / "hrl_grg"
-    out = subprocess.run([str(BIN / "objsearch"), "plot", "grg", str(checkpoint), "--out", str(tmp_path / "g.png")],
-                         capture_output=True, text=True, timeout=120)
+    out = subprocess.run(
+        [str(BIN / "objsearch"), "plot", "grg", str(checkpoint), "--out", str(tmp_path / "g.png")],
+        capture_output=True,
+        text=True,
+        timeout=120,
+    )
     assert out.returncode == 0, out.stderr
     assert (tmp_path / "g.png").read_bytes()[:8] == b"\x89PNG\r\n\x1a\n" and "chain recovery" in out.stdout
-    bad = subprocess.run([str(BIN / "objsearch"), "plot", "grg", str(tmp_path / "nowhere")], capture_output=True,
-                         text=True, timeout=120)
+    bad = subprocess.run(
+        [str(BIN / "objsearch"), "plot", "grg", str(tmp_path / "nowhere")], capture_output=True, text=True, timeout=120
+    )
     assert bad.returncode == 2 and "Traceback" not in bad.stderr
-    assert bad.stderr.strip().splitlines() == [f"objsearch: error: no GRG at {tmp_path / 'nowhere'}: give a checkpoint or "
-                                              "run folder with a grg.npz (e.g. agents/checkpoints/gridworld/hrl_grg) "
-                                              "or a grg.npz file"]
+    assert bad.stderr.strip().splitlines() == [
+        f"objsearch: error: no GRG at {tmp_path / 'nowhere'}: give a checkpoint or "
+        "run folder with a grg.npz (e.g. agents/checkpoints/gridworld/hrl_grg) "
+        "or a grg.npz file"
+    ]

@@ -211,9 +211,11 @@ def test_abandoned_temp_folders_ignores_files_and_other_names_and_a_missing_pare
 
 
 def test_a_temp_folder_left_by_a_killed_process_is_found(tmp_path):
-    code = ("import os, sys; from objsearch.fileio import atomic_directory\n"
-            "with atomic_directory(sys.argv[1]) as tmp:\n"
-            "    (tmp / 'part').write_text('x'); os._exit(9)\n")
+    code = (
+        "import os, sys; from objsearch.fileio import atomic_directory\n"
+        "with atomic_directory(sys.argv[1]) as tmp:\n"
+        "    (tmp / 'part').write_text('x'); os._exit(9)\n"
+    )
     out = subprocess.run([sys.executable, "-c", code, str(tmp_path / "cache")], timeout=120)
     assert out.returncode == 9
     left = abandoned_temp_folders(tmp_path)

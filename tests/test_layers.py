@@ -51,11 +51,14 @@ def test_no_module_imports_a_higher_layer_or_the_agents(rel):
         return
     own = LAYERS.get(rel.parts[0], -1) if len(rel.parts) > 1 else -1  # -1: a top-level helper
     for line, module in imported_modules(tree):
-        assert module.split(".")[0] != AGENTS, f"objsearch/{rel}:{line} imports {module}: objsearch never imports the agents"
+        assert module.split(".")[0] != AGENTS, (
+            f"objsearch/{rel}:{line} imports {module}: objsearch never imports the agents"
+        )
         layer = layer_of(module)
         assert layer is None or layer <= own, (
             f"objsearch/{rel}:{line} imports {module}, a higher layer than its own; move the code that needs both "
-            "to the lower of the layers that can see both (or to the top-level glue)")
+            "to the lower of the layers that can see both (or to the top-level glue)"
+        )
 
 
 def test_every_layer_is_known():

@@ -8,12 +8,12 @@ import os
 import shutil
 import subprocess
 import sys
-import tomllib
 import zipfile
 from importlib.metadata import distribution, entry_points
 from pathlib import Path
 
 import pytest
+import tomllib
 
 ROOT = Path(__file__).resolve().parents[1]
 BIN = Path(sys.executable).parent
@@ -36,8 +36,16 @@ def package_files(top: str) -> list[Path]:
     """The files under ``top`` that a clone holds (tracked, or new and not ignored); every file
     under it when this is no git checkout."""
     try:
-        listed = subprocess.run(["git", "ls-files", "--cached", "--others", "--exclude-standard", "-z", top], cwd=ROOT,
-                                capture_output=True, check=True).stdout.decode().split("\0")
+        listed = (
+            subprocess.run(
+                ["git", "ls-files", "--cached", "--others", "--exclude-standard", "-z", top],
+                cwd=ROOT,
+                capture_output=True,
+                check=True,
+            )
+            .stdout.decode()
+            .split("\0")
+        )
         paths = [ROOT / name for name in listed if name]
     except (OSError, subprocess.CalledProcessError):
         paths = [p for p in (ROOT / top).rglob("*") if "__pycache__" not in p.parts]
@@ -73,8 +81,24 @@ def installed(tmp_path_factory):
             shutil.copy2(path, dest)
     for name in ("pyproject.toml", "README.md"):
         shutil.copy2(ROOT / name, src / name)
-    out = subprocess.run([sys.executable, "-m", "pip", "wheel", "--no-deps", "--no-build-isolation", "--no-index", "-q",
-                          "-w", str(tmp / "dist"), str(src)], capture_output=True, text=True, timeout=300)
+    out = subprocess.run(
+        [
+            sys.executable,
+            "-m",
+            "pip",
+            "wheel",
+            "--no-deps",
+            "--no-build-isolation",
+            "--no-index",
+            "-q",
+            "-w",
+            str(tmp / "dist"),
+            str(src),
+        ],
+        capture_output=True,
+        text=True,
+        timeout=300,
+    )
     assert out.returncode == 0, out.stderr[-3000:]
     (wheel,) = (tmp / "dist").glob("objsearch-*.whl")
     site = tmp / "site"
@@ -145,15 +169,23 @@ def test_an_installed_copy_finds_the_data_it_needs(installed):
     agent checkpoints from the installed package."""
     _, site = installed
     env = {**os.environ, "PYTHONPATH": str(site)}
-    out = subprocess.run([sys.executable, "-c", INSTALLED_CHECK, str(site)], capture_output=True, text=True,
-                         env=env, cwd=site, timeout=300)
+    out = subprocess.run(
+        [sys.executable, "-c", INSTALLED_CHECK, str(site)],
+        capture_output=True,
+        text=True,
+        env=env,
+        cwd=site,
+        timeout=300,
+    )
     assert out.returncode == 0, out.stderr[-3000:]
     found = json.loads(out.stdout.splitlines()[-1])
     assert found["train_maps"] == 100 and found["test_maps"] == 20
     assert found["tasks"] == {"seen-goals": 100, "unseen-goals": 100, "all-goals": 100}
     assert found["gridworld_episodes"] == 100
     assert all(found["house_suites"].values()) and found["perception"] and found["template"] == 1
-    shipped = {f"{p.parent.parent.name}/{p.parent.name}" for p in (ROOT / "agents" / "checkpoints").glob("house-*/*/policy.pt")}
+    shipped = {
+        f"{p.parent.parent.name}/{p.parent.name}" for p in (ROOT / "agents" / "checkpoints").glob("house-*/*/policy.pt")
+    }
     shipped |= {p.parent.name for p in (ROOT / "agents" / "checkpoints" / "gridworld").glob("*/policy.pt")}
     for key, loaded in found["checkpoints"].items():
         if key in shipped:
@@ -187,7 +219,9 @@ def test_objsearch_version_and_help():
 
     (sub,) = [a for a in build_parser()._actions if a.dest == "command"]
     for name in sub.choices:
-        assert f"\n    {name} " in usage.stdout or f"\n    {name}\n" in usage.stdout, f"{name} missing from objsearch --help"
+        assert f"\n    {name} " in usage.stdout or f"\n    {name}\n" in usage.stdout, (
+            f"{name} missing from objsearch --help"
+        )
 
 
 def test_every_subcommand_has_help(capsys):
@@ -230,8 +264,10 @@ def tiny_suites(tmp_path_factory):
     tasks.write_text("\n".join((DATA_DIR / "tasks" / "all-goals.jsonl").read_text().splitlines()[:2]) + "\n")
     grid = make_suite("gridworld", maps=str(DATA_DIR / "test"), tasks=str(tasks))
     house = make_suite(HOUSE_SUITE, mode="live", max_steps=5)
-    return {"gridworld": ("gridworld", grid, "tiny", grid.episodes("tiny")),
-            "house": (HOUSE_SUITE, house, house.splits[0], house.episodes(house.splits[0])[:1])}
+    return {
+        "gridworld": ("gridworld", grid, "tiny", grid.episodes("tiny")),
+        "house": (HOUSE_SUITE, house, house.splits[0], house.episodes(house.splits[0])[:1]),
+    }
 
 
 class CheckedEnv:

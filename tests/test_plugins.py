@@ -16,21 +16,50 @@ BIN = Path(sys.executable).parent
 def installed_example(tmp_path_factory):
     target = tmp_path_factory.mktemp("site")
     subprocess.run(
-        [sys.executable, "-m", "pip", "install", "-q", "--no-deps", "--no-build-isolation", "--target", str(target),
-         str(ROOT / "examples" / "objsearch-greedy-agent")],
-        check=True, capture_output=True, timeout=300,
+        [
+            sys.executable,
+            "-m",
+            "pip",
+            "install",
+            "-q",
+            "--no-deps",
+            "--no-build-isolation",
+            "--target",
+            str(target),
+            str(ROOT / "examples" / "objsearch-greedy-agent"),
+        ],
+        check=True,
+        capture_output=True,
+        timeout=300,
     )
     env = dict(os.environ, PYTHONPATH=str(target))
     return env
 
 
 def test_installed_example_is_listed_and_evaluated_by_name(installed_example, tmp_path):
-    listed = subprocess.run([str(BIN / "objsearch-eval"), "--list-agents"], env=installed_example, capture_output=True, text=True)
+    listed = subprocess.run(
+        [str(BIN / "objsearch-eval"), "--list-agents"], env=installed_example, capture_output=True, text=True
+    )
     assert "greedy_visible" in listed.stdout
     out = subprocess.run(
-        [str(BIN / "objsearch-eval"), "--agent", "greedy_visible", "--suite", "gridworld", "--split", "unseen-goals", "--seeds", "1,5",
-         "--quiet", "--out", str(tmp_path / "greedy.json")],
-        env=installed_example, capture_output=True, text=True, timeout=300,
+        [
+            str(BIN / "objsearch-eval"),
+            "--agent",
+            "greedy_visible",
+            "--suite",
+            "gridworld",
+            "--split",
+            "unseen-goals",
+            "--seeds",
+            "1,5",
+            "--quiet",
+            "--out",
+            str(tmp_path / "greedy.json"),
+        ],
+        env=installed_example,
+        capture_output=True,
+        text=True,
+        timeout=300,
     )
     assert out.returncode == 0, out.stderr
     results = json.loads((tmp_path / "greedy.json").read_text())
@@ -41,9 +70,21 @@ def test_installed_example_is_listed_and_evaluated_by_name(installed_example, tm
 
 def test_agent_by_module_path(tmp_path):
     out = subprocess.run(
-        [str(BIN / "objsearch-eval"), "--agent", "objsearch_agents.random_agent:RandomAgent", "--suite", "gridworld", "--split", "all-goals",
-         "--seeds", "1", "--quiet"],
-        capture_output=True, text=True, timeout=300,
+        [
+            str(BIN / "objsearch-eval"),
+            "--agent",
+            "objsearch_agents.random_agent:RandomAgent",
+            "--suite",
+            "gridworld",
+            "--split",
+            "all-goals",
+            "--seeds",
+            "1",
+            "--quiet",
+        ],
+        capture_output=True,
+        text=True,
+        timeout=300,
     )
     assert out.returncode == 0, out.stderr
     assert "RandomAgent" in out.stdout

@@ -22,8 +22,8 @@ from objsearch.errors import UserError
 from objsearch.sim.camera import AGENT_CAMERA, AGENT_CAMERA_NAME, check_camera
 from objsearch_agents.house.config import HouseAgentConfig
 from objsearch_agents.house.policy import HousePolicy
-from objsearch_agents.rows import RowRandom
 from objsearch_agents.house.tables import HISTORY, ObservationTables
+from objsearch_agents.rows import RowRandom
 
 CHECKPOINTS = Path(__file__).resolve().parent.parent / "checkpoints"
 POLICY_KIND = "objsearch-house-policy"
@@ -52,9 +52,11 @@ class HouseAgent:
         path = checkpoint if checkpoint is not None else default_checkpoint(suite, self.config.name)
         if path is None:
             name = self.config.name
-            raise UserError(f"no {name} checkpoint is shipped for suite {suite!r}; train one with "
-                            f"`objsearch train --agent {name} --suite {suite}` and pass "
-                            f"--checkpoint runs/{suite}/{name}-seed0")
+            raise UserError(
+                f"no {name} checkpoint is shipped for suite {suite!r}; train one with "
+                f"`objsearch train --agent {name} --suite {suite}` and pass "
+                f"--checkpoint runs/{suite}/{name}-seed0"
+            )
         self.load(path)
 
     @classmethod
@@ -74,20 +76,30 @@ class HouseAgent:
             raise UserError(f"checkpoint {path} does not exist; pass a policy.pt or a training run directory")
         state = load_checkpoint_file(path)
         if not isinstance(state, dict) or state.get("kind") != POLICY_KIND:
-            raise UserError(f"checkpoint {path} is not a house agent's policy.pt (a grid-world or other file?); "
-                            "pass one written by objsearch train --suite house-...")
+            raise UserError(
+                f"checkpoint {path} is not a house agent's policy.pt (a grid-world or other file?); "
+                "pass one written by objsearch train --suite house-..."
+            )
         files = [path]
         with torchfile.fitting(path, "a house agent's policy.pt written by objsearch train"):
             saved = HouseAgentConfig.from_json(state["config"], f"checkpoint {path}")
             if saved.name != self.config.name:
-                raise UserError(f"checkpoint {path} was trained as {saved.name}, not {self.config.name}; pick --agent {saved.name}")
+                raise UserError(
+                    f"checkpoint {path} was trained as {saved.name}, not {self.config.name}; pick --agent {saved.name}"
+                )
             if saved.suite != self.suite:
-                raise UserError(f"checkpoint {path} was trained on suite {saved.suite}, not {self.suite}; "
-                                f"evaluate it with --suite {saved.suite} or pass a checkpoint trained on {self.suite}")
-            check_camera(state.get("camera"), AGENT_CAMERA, source=f"house policy checkpoint {path}",
-                         expected_name=AGENT_CAMERA_NAME,
-                         fix=f"retrain it (objsearch train --agent {saved.name} --suite {saved.suite}) or pass a checkpoint "
-                             "trained with that camera")
+                raise UserError(
+                    f"checkpoint {path} was trained on suite {saved.suite}, not {self.suite}; "
+                    f"evaluate it with --suite {saved.suite} or pass a checkpoint trained on {self.suite}"
+                )
+            check_camera(
+                state.get("camera"),
+                AGENT_CAMERA,
+                source=f"house policy checkpoint {path}",
+                expected_name=AGENT_CAMERA_NAME,
+                fix=f"retrain it (objsearch train --agent {saved.name} --suite {saved.suite}) or pass a checkpoint "
+                "trained with that camera",
+            )
             self.policy = HousePolicy(saved)
             if self.policy.ac is not None:
                 self.policy.ac.load_state_dict(state["ac"])
@@ -146,9 +158,19 @@ class HouseAgent:
 
     # -- training -----------------------------------------------------------------------------
     @classmethod
-    def train(cls, *, suite: str, out: str | os.PathLike, episodes: int | None = None, steps: int | None = None,
-              seed: int = 0, overrides: dict[str, str] | None = None, fresh: bool = False, progress: bool = True,
-              command: str | None = None) -> dict:
+    def train(
+        cls,
+        *,
+        suite: str,
+        out: str | os.PathLike,
+        episodes: int | None = None,
+        steps: int | None = None,
+        seed: int = 0,
+        overrides: dict[str, str] | None = None,
+        fresh: bool = False,
+        progress: bool = True,
+        command: str | None = None,
+    ) -> dict:
         """Train this agent on a house suite's training houses (the ``objsearch train`` hook)."""
         from dataclasses import replace
 
@@ -162,5 +184,10 @@ class HouseAgent:
             config = replace(config, steps=int(steps))
         run = train(config, out, progress=progress, fresh=fresh, command=command)
         k = run.counters
-        return {"out": str(out), "finished": k["finished"], "env_steps": k["env_steps"], "interrupted": run.interrupted,
-                "wall_s": k["wall_s"]}
+        return {
+            "out": str(out),
+            "finished": k["finished"],
+            "env_steps": k["env_steps"],
+            "interrupted": run.interrupted,
+            "wall_s": k["wall_s"],
+        }

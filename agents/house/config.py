@@ -102,10 +102,28 @@ class HouseAgentConfig(JsonConfig):
             raise UserError(f"observation must be gt or predicted, not {self.observation!r}")
         for flag in ("explorer", "train_low"):
             if getattr(self, flag) and not self.hierarchical:
-                raise UserError(f"{flag} applies to the hierarchical methods (hdqn, hrl_grg), not {self.method}; drop it")
-        require_at_least(self, ("num_envs", "max_steps", "option_steps", "batch_size", "replay_size", "update_every",
-                                "target_update", "rollout", "eps_anneal_episodes", "curriculum_episodes",
-                                "plan_every", "checkpoint_every", "log_every"), 1)
+                raise UserError(
+                    f"{flag} applies to the hierarchical methods (hdqn, hrl_grg), not {self.method}; drop it"
+                )
+        require_at_least(
+            self,
+            (
+                "num_envs",
+                "max_steps",
+                "option_steps",
+                "batch_size",
+                "replay_size",
+                "update_every",
+                "target_update",
+                "rollout",
+                "eps_anneal_episodes",
+                "curriculum_episodes",
+                "plan_every",
+                "checkpoint_every",
+                "log_every",
+            ),
+            1,
+        )
 
     @property
     def hierarchical(self) -> bool:
@@ -116,4 +134,6 @@ class HouseAgentConfig(JsonConfig):
         """The agent name this config trains (``hrl_grg_no_relation`` for an ablation)."""
         if self.method != "hrl_grg":
             return self.method
-        return "hrl_grg" + "".join(f"_no_{n}" for n in ("relation", "termination", "high_level") if not getattr(self, n))
+        return "hrl_grg" + "".join(
+            f"_no_{n}" for n in ("relation", "termination", "high_level") if not getattr(self, n)
+        )

@@ -74,7 +74,9 @@ class TrainingHouses:
             if predictor is None:
                 tables = gt_tables
             else:
-                tables = house_tables(PredictedCache.open(world, AGENT_CAMERA, predictor, cache_dir, progress), world.graph.next_pose)
+                tables = house_tables(
+                    PredictedCache.open(world, AGENT_CAMERA, predictor, cache_dir, progress), world.graph.next_pose
+                )
             per_house.append(tables)
             seen = gt_tables.pixels >= VISIBLE_PIXELS  # approach starts: the category is really in view
             for cid in sorted({CATEGORY_IDS[o.category] for o in world.spec.objects}):
@@ -93,8 +95,10 @@ class TrainingHouses:
         self.tables = ObservationTables.concat(per_house)
         keys = [p_ix * self.tables.num_poses + pair.goals for p_ix, pair in enumerate(self.pairs)]
         self._goal_keys = np.sort(np.concatenate(keys)) if keys else np.zeros(0, np.int64)
-        self.by_pool = {pool: np.array([i for i, p in enumerate(self.pairs) if len(p.pools.get(pool, ()))], np.int64)
-                        for pool in POOLS}
+        self.by_pool = {
+            pool: np.array([i for i, p in enumerate(self.pairs) if len(p.pools.get(pool, ()))], np.int64)
+            for pool in POOLS
+        }
         if not len(self.by_pool["search"]):
             raise ValueError(f"none of the targets {sorted(targets)} has goal poses and starts in these houses")
 

@@ -94,7 +94,9 @@ class CategoryQ(nn.Module):
         self.out = nn.Linear(HIDDEN, outputs)
         _glorot(self)
 
-    def forward(self, categories: torch.Tensor, masks: torch.Tensor, depth: torch.Tensor, target: torch.Tensor) -> torch.Tensor:
+    def forward(
+        self, categories: torch.Tensor, masks: torch.Tensor, depth: torch.Tensor, target: torch.Tensor
+    ) -> torch.Tensor:
         w = self.pixel.weight[0][categories]  # (N, 4, M)
         seg = (masks * w[..., None, None]).sum(dim=2) + self.pixel.bias  # (N, 4, 10, 10)
         return self.out(self.body(seg, depth, target))

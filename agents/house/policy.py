@@ -24,15 +24,21 @@ from __future__ import annotations
 import numpy as np
 import torch
 
+from objsearch.house.categories import FIRST_OBJECT_ID
 from objsearch_agents.grg import GoalsRelationalGraph
-from objsearch_agents.rows import rows_of
 from objsearch_agents.house.config import HouseAgentConfig
 from objsearch_agents.house.episodes import object_node
-from objsearch_agents.house.nets import ActorCritic, CandidateQ, CategoryQ, NUM_ACTIONS
-from objsearch_agents.house.tables import (DEPTH_SCALE, NUM_CATEGORIES, NUM_OBJECTS, REACH_RULE, VISIBLE_PIXELS,
-                                           ObservationTables)
+from objsearch_agents.house.nets import NUM_ACTIONS, ActorCritic, CandidateQ, CategoryQ
+from objsearch_agents.house.tables import (
+    DEPTH_SCALE,
+    NUM_CATEGORIES,
+    NUM_OBJECTS,
+    REACH_RULE,
+    VISIBLE_PIXELS,
+    ObservationTables,
+)
 from objsearch_agents.nets import seeded_init
-from objsearch.house.categories import FIRST_OBJECT_ID
+from objsearch_agents.rows import rows_of
 
 RANDOM = NUM_OBJECTS
 NUM_NODES = NUM_OBJECTS + 1
@@ -73,8 +79,9 @@ def candidates(tables: ObservationTables, hist: np.ndarray, targets: np.ndarray)
     return np.concatenate([vis & ~reached, np.ones((len(hist), 1), bool)], axis=1)
 
 
-def candidate_inputs(tables: ObservationTables, hist: np.ndarray, env_ix: np.ndarray, node_ix: np.ndarray,
-                     weights: np.ndarray) -> tuple[torch.Tensor, torch.Tensor]:
+def candidate_inputs(
+    tables: ObservationTables, hist: np.ndarray, env_ix: np.ndarray, node_ix: np.ndarray, weights: np.ndarray
+) -> tuple[torch.Tensor, torch.Tensor]:
     """``CandidateQ``'s input for (env, node) pairs: the node's mask times its weight
     (``RANDOM``: ones times its weight), and depth."""
     cats = node_category(node_ix)
@@ -180,7 +187,9 @@ class HousePolicy:
         """argmax over each row's candidates of ``CandidateQ``, one forward pass for all."""
         env_ix, node_ix = np.nonzero(cand)
         q = np.full(cand.shape, -np.inf, np.float32)
-        q[env_ix, node_ix] = net(*candidate_inputs(tables, hist, env_ix, node_ix, self.relation_weights(values))).numpy()
+        q[env_ix, node_ix] = net(
+            *candidate_inputs(tables, hist, env_ix, node_ix, self.relation_weights(values))
+        ).numpy()
         return q.argmax(axis=1)
 
     def acting_category(self) -> np.ndarray:
@@ -188,7 +197,9 @@ class HousePolicy:
         return self.target if self.config.method == "a3c" else node_category(self.subgoal)
 
     @torch.no_grad()
-    def actions(self, tables: ObservationTables, hist: np.ndarray, epsilon: np.ndarray, rng) -> tuple[np.ndarray, tuple | None]:
+    def actions(
+        self, tables: ObservationTables, hist: np.ndarray, epsilon: np.ndarray, rng
+    ) -> tuple[np.ndarray, tuple | None]:
         """Primitive actions (DQN epsilon-greedy; the actor-critic's sampled from its policy)
         and the actor-critic's inputs they were chosen from (None for DQN)."""
         n = len(hist)

@@ -58,9 +58,13 @@ def frame_features(semantic: np.ndarray, depth: np.ndarray):
     semantic = np.asarray(semantic)
     depth = np.asarray(depth, dtype=np.float32)
     pixels = np.bincount(semantic.ravel(), minlength=NUM_CATEGORIES)[:NUM_CATEGORIES].astype(np.int32)
-    near = np.bincount(semantic[depth <= REACH_DISTANCE].ravel(), minlength=NUM_CATEGORIES)[:NUM_CATEGORIES].astype(np.int32)
-    masks = {int(c): cv2.resize((semantic == c).astype(np.float32), shape, interpolation=cv2.INTER_AREA)
-             for c in np.flatnonzero(pixels)}
+    near = np.bincount(semantic[depth <= REACH_DISTANCE].ravel(), minlength=NUM_CATEGORIES)[:NUM_CATEGORIES].astype(
+        np.int32
+    )
+    masks = {
+        int(c): cv2.resize((semantic == c).astype(np.float32), shape, interpolation=cv2.INTER_AREA)
+        for c in np.flatnonzero(pixels)
+    }
     return cv2.resize(depth, shape, interpolation=cv2.INTER_AREA), masks, pixels, near
 
 
@@ -81,7 +85,9 @@ class ObservationTables:
         return len(self.depth)
 
     @classmethod
-    def from_frames(cls, semantic: np.ndarray, depth: np.ndarray, next_pose: np.ndarray | None = None) -> "ObservationTables":
+    def from_frames(
+        cls, semantic: np.ndarray, depth: np.ndarray, next_pose: np.ndarray | None = None
+    ) -> "ObservationTables":
         """Tables of frames (``semantic`` uint8 (P, H, W), ``depth`` float32 (P, H, W)), one
         pose each; ``next_pose`` the pose graph (None: a frame history, no moves)."""
         n = len(semantic)
@@ -97,7 +103,9 @@ class ObservationTables:
                 rows.append(mask)
         if next_pose is None:
             next_pose = np.tile(np.arange(n, dtype=np.int32)[:, None], (1, 6))
-        return cls(depth10, np.stack(rows), slot, pixels, near, np.asarray(next_pose, np.int32)[:, :6], np.array([0, n]))
+        return cls(
+            depth10, np.stack(rows), slot, pixels, near, np.asarray(next_pose, np.int32)[:, :6], np.array([0, n])
+        )
 
     @classmethod
     def concat(cls, tables: list["ObservationTables"]) -> "ObservationTables":
@@ -107,8 +115,13 @@ class ObservationTables:
         slot = np.concatenate([np.where(t.slot > 0, t.slot + r, 0) for t, r in zip(tables, row_off)]).astype(np.int32)
         next_pose = np.concatenate([t.next_pose + o for t, o in zip(tables, pose_off)]).astype(np.int32)
         return cls(
-            np.concatenate([t.depth for t in tables]), np.concatenate([t.mask_rows for t in tables]), slot,
-            np.concatenate([t.pixels for t in tables]), np.concatenate([t.near for t in tables]), next_pose, pose_off,
+            np.concatenate([t.depth for t in tables]),
+            np.concatenate([t.mask_rows for t in tables]),
+            slot,
+            np.concatenate([t.pixels for t in tables]),
+            np.concatenate([t.near for t in tables]),
+            next_pose,
+            pose_off,
         )
 
     # -- what the networks see ------------------------------------------------------------

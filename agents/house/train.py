@@ -37,7 +37,6 @@ import torch
 from tqdm import tqdm
 
 from objsearch import torchfile
-from objsearch.errors import UserError
 from objsearch.fileio import atomic_write, write_csv, write_json
 from objsearch.interrupt import stop_on_interrupt
 from objsearch.sim.camera import AGENT_CAMERA
@@ -45,13 +44,31 @@ from objsearch_agents.a2c import ActorCriticLearner
 from objsearch_agents.dqn_learner import Learner, td_loss
 from objsearch_agents.house.config import HouseAgentConfig
 from objsearch_agents.house.episodes import EpisodeBatch, TrainingHouses, object_node
-from objsearch_agents.house.policy import (RANDOM, HousePolicy, _t, candidate_inputs, candidates, category_input,
-                                           low_input, node_category)
+from objsearch_agents.house.policy import (
+    RANDOM,
+    HousePolicy,
+    _t,
+    candidate_inputs,
+    candidates,
+    category_input,
+    low_input,
+    node_category,
+)
 from objsearch_agents.house.tables import HISTORY
 from objsearch_agents.replay import ReplayBuffer
 
-LOG_FIELDS = ("env_steps", "episodes", "updates", "epsilon", "success_rate", "mean_steps", "loss_ac", "loss_q",
-              "grg_counts", "wall_s")
+LOG_FIELDS = (
+    "env_steps",
+    "episodes",
+    "updates",
+    "epsilon",
+    "success_rate",
+    "mean_steps",
+    "loss_ac",
+    "loss_q",
+    "grg_counts",
+    "wall_s",
+)
 POLICY_FILE, STATE_FILE, CONFIG_FILE, LOG_FILE, GRG_FILE = "policy.pt", "state.pt", "config.json", "log.csv", "grg.npz"
 
 
@@ -73,7 +90,9 @@ def _category_loss(learner, batch, tables, mask_fn) -> torch.Tensor:
         nxt = category_input(tables, batch["next_hist"], batch["target"])
         online = learner.online(*nxt)
         if mask_fn is not None:
-            online = online.masked_fill(~torch.from_numpy(mask_fn(tables, batch["next_hist"], batch["target"])), -torch.inf)
+            online = online.masked_fill(
+                ~torch.from_numpy(mask_fn(tables, batch["next_hist"], batch["target"])), -torch.inf
+            )
         next_q = learner.target(*nxt).gather(1, online.argmax(dim=1, keepdim=True))[:, 0]
     return td_loss(q, batch["reward"], batch["done"], next_q, learner.gamma)
 
@@ -86,8 +105,9 @@ def grg_loss(learner: Learner, batch: dict, tables, policy: HousePolicy) -> torc
     weights = policy.relation_weights(values)
     q = learner.online(*candidate_inputs(tables, batch["hist"], rows, batch["action"], weights))
     with torch.no_grad():
-        best = policy.candidate_argmax(learner.online, tables, batch["next_hist"],
-                                       candidates(tables, batch["next_hist"], batch["target"]), values)
+        best = policy.candidate_argmax(
+            learner.online, tables, batch["next_hist"], candidates(tables, batch["next_hist"], batch["target"]), values
+        )
         next_q = learner.target(*candidate_inputs(tables, batch["next_hist"], rows, best, weights))
     return td_loss(q, batch["reward"], batch["done"], next_q, learner.gamma)
 
@@ -100,10 +120,14 @@ def load_checkpoint_file(path: Path) -> dict:
 
 def save_policy(policy: HousePolicy, out: Path) -> None:
     """The evaluable policy: ``policy.pt`` (config and network weights) and ``grg.npz``."""
-    state = {"kind": "objsearch-house-policy", "config": policy.config.to_json(), "camera": AGENT_CAMERA.to_json(),
-             "ac": policy.ac.state_dict() if policy.ac is not None else None,
-             "q": policy.q.state_dict() if policy.q is not None else None,
-             "explore": policy.explore.state_dict() if policy.explore is not None else None}
+    state = {
+        "kind": "objsearch-house-policy",
+        "config": policy.config.to_json(),
+        "camera": AGENT_CAMERA.to_json(),
+        "ac": policy.ac.state_dict() if policy.ac is not None else None,
+        "q": policy.q.state_dict() if policy.q is not None else None,
+        "explore": policy.explore.state_dict() if policy.explore is not None else None,
+    }
     torchfile.save(out / POLICY_FILE, state)
     if policy.grg is not None:
         policy.grg.save(out / GRG_FILE)
@@ -121,18 +145,34 @@ class HouseTrainRun:
         self.batch = EpisodeBatch(houses, c.num_envs, c.max_steps)
         self.ac = None  # the actor-critic's learner: A3C, or a hierarchical low level with train_low
         if c.method == "a3c" or (c.hierarchical and c.train_low):
-            self.ac = ActorCriticLearner(self.policy.ac, c.ac_lr, c.rmsprop_alpha, c.rmsprop_eps, c.max_grad_norm,
-                                         c.entropy, c.gamma)
+            self.ac = ActorCriticLearner(
+                self.policy.ac, c.ac_lr, c.rmsprop_alpha, c.rmsprop_eps, c.max_grad_norm, c.entropy, c.gamma
+            )
         self.q = self.replay = None
         if self.policy.q is not None:
             self.q = Learner(self.policy.q, c)
-            self.replay = ReplayBuffer(c.replay_size, {
-                "hist": ((HISTORY,), np.int64), "target": ((), np.int64), "action": ((), np.int64),
-                "reward": ((), np.float32), "next_hist": ((HISTORY,), np.int64), "done": ((), np.float32)})
+            self.replay = ReplayBuffer(
+                c.replay_size,
+                {
+                    "hist": ((HISTORY,), np.int64),
+                    "target": ((), np.int64),
+                    "action": ((), np.int64),
+                    "reward": ((), np.float32),
+                    "next_hist": ((HISTORY,), np.int64),
+                    "done": ((), np.float32),
+                },
+            )
         self.rollout: list = []
         self.episode_ix = np.zeros(c.num_envs, np.int64)
-        self.counters = {"started": 0, "finished": 0, "env_steps": 0, "updates": 0, "credit": 0.0, "wall_s": 0.0,
-                         "batched_steps": 0}
+        self.counters = {
+            "started": 0,
+            "finished": 0,
+            "env_steps": 0,
+            "updates": 0,
+            "credit": 0.0,
+            "wall_s": 0.0,
+            "batched_steps": 0,
+        }
         self.window = self._empty_window()
         self.rows: list[dict] = []
         self.interrupted = False
@@ -171,8 +211,14 @@ class HouseTrainRun:
         over = success | truncated
         reward = success.astype(np.float32)
         if self.replay is not None:
-            self.replay.add(hist=hist, target=b.target.copy(), action=chosen if c.hierarchical else actions,
-                            reward=reward, next_hist=b.hist.copy(), done=reward)
+            self.replay.add(
+                hist=hist,
+                target=b.target.copy(),
+                action=chosen if c.hierarchical else actions,
+                reward=reward,
+                next_hist=b.hist.copy(),
+                done=reward,
+            )
         if c.hierarchical:
             ended = p.advance(tables, b.hist, over, count=True)
             if self.ac is not None:
@@ -210,10 +256,14 @@ class HouseTrainRun:
 
     def _learn_ac(self) -> None:
         """One A2C update on the rollout's transitions (``valid`` ones: the back-up node's are not used)."""
-        masks, depths, actions, rewards, dones, valid = zip(*[(i[0], i[1], a, r, d, v) for i, a, r, d, v in self.rollout])
+        masks, depths, actions, rewards, dones, valid = zip(
+            *[(i[0], i[1], a, r, d, v) for i, a, r, d, v in self.rollout]
+        )
         self.rollout = []
         with torch.no_grad():
-            _, bootstrap = self.policy.ac(*map(_t, low_input(self.tables, self.batch.hist, self.policy.acting_category())))
+            _, bootstrap = self.policy.ac(
+                *map(_t, low_input(self.tables, self.batch.hist, self.policy.acting_category()))
+            )
         returns = self.ac.returns(np.stack(rewards), np.stack(dones), bootstrap.numpy())
         keep = np.concatenate(valid)
         if not keep.any():
@@ -252,28 +302,38 @@ class HouseTrainRun:
     def log_row(self) -> None:
         w, k = self.window, self.counters
         mean = lambda pair: round(pair[0] / pair[1], 6) if pair[1] else ""
-        self.rows.append({
-            "env_steps": k["env_steps"], "episodes": k["finished"], "updates": k["updates"],
-            "epsilon": round(float(self.epsilon(np.array([k["started"]]))[0]), 4) if self.q is not None else "",
-            "success_rate": round(w["success"] / max(w["episodes"], 1), 4),
-            "mean_steps": round(w["steps"] / max(w["episodes"], 1), 2),
-            "loss_ac": mean(w["loss_ac"]), "loss_q": mean(w["loss_q"]),
-            "grg_counts": int(self.policy.grg.counts.sum()) if self.policy.grg is not None else "",
-            "wall_s": round(k["wall_s"], 1),
-        })
+        self.rows.append(
+            {
+                "env_steps": k["env_steps"],
+                "episodes": k["finished"],
+                "updates": k["updates"],
+                "epsilon": round(float(self.epsilon(np.array([k["started"]]))[0]), 4) if self.q is not None else "",
+                "success_rate": round(w["success"] / max(w["episodes"], 1), 4),
+                "mean_steps": round(w["steps"] / max(w["episodes"], 1), 2),
+                "loss_ac": mean(w["loss_ac"]),
+                "loss_q": mean(w["loss_q"]),
+                "grg_counts": int(self.policy.grg.counts.sum()) if self.policy.grg is not None else "",
+                "wall_s": round(k["wall_s"], 1),
+            }
+        )
         self.window = self._empty_window()
 
     def state_dict(self) -> dict:
         arrays = {
-            "rng": self.rng.bit_generator.state, "batch": self.batch.state_dict(), "episode_ix": self.episode_ix.copy(),
+            "rng": self.rng.bit_generator.state,
+            "batch": self.batch.state_dict(),
+            "episode_ix": self.episode_ix.copy(),
             "policy": self.policy.state_dict(),
             "grg": self.policy.grg.counts.copy() if self.policy.grg is not None else None,
             "replay": self.replay.state_dict() if self.replay is not None else None,
             "rollout": [list(i) + [a, r, d, v] for i, a, r, d, v in self.rollout],
         }
         return {
-            "kind": "objsearch-house-train-state", "config": self.config.to_json(), "counters": dict(self.counters),
-            "window": {k: (list(v) if isinstance(v, list) else v) for k, v in self.window.items()}, "rows": list(self.rows),
+            "kind": "objsearch-house-train-state",
+            "config": self.config.to_json(),
+            "counters": dict(self.counters),
+            "window": {k: (list(v) if isinstance(v, list) else v) for k, v in self.window.items()},
+            "rows": list(self.rows),
             "arrays": arrays,
             "ac": self.ac.state_dict() if self.ac is not None else None,
             "q": self.q.state_dict() if self.q is not None else None,
@@ -314,8 +374,15 @@ class HouseTrainRun:
         c, k = self.config, self.counters
         with stop_on_interrupt() as stop:
             desc = f"train {c.name}" + (" (pretrain)" if self.pool == "approach" else "")
-            bar = tqdm(total=c.steps, initial=min(k["env_steps"], c.steps), unit="step", unit_scale=True, desc=desc,
-                       disable=not progress or None, smoothing=0.05)
+            bar = tqdm(
+                total=c.steps,
+                initial=min(k["env_steps"], c.steps),
+                unit="step",
+                unit_scale=True,
+                desc=desc,
+                disable=not progress or None,
+                smoothing=0.05,
+            )
             try:
                 t0, wall0 = time.perf_counter(), k["wall_s"]
                 while k["env_steps"] < c.steps and not stop.is_set():
@@ -335,8 +402,15 @@ class HouseTrainRun:
             return not stop.is_set()
 
 
-def _run_phase(config: HouseAgentConfig, out: Path, houses: TrainingHouses, pool: str, progress: bool, fresh: bool,
-               init_ac: dict | None) -> HouseTrainRun:
+def _run_phase(
+    config: HouseAgentConfig,
+    out: Path,
+    houses: TrainingHouses,
+    pool: str,
+    progress: bool,
+    fresh: bool,
+    init_ac: dict | None,
+) -> HouseTrainRun:
     run = HouseTrainRun(config, out, houses, pool)
     state_path = out / STATE_FILE
     if state_path.exists() and not fresh:
@@ -353,8 +427,15 @@ def _run_phase(config: HouseAgentConfig, out: Path, houses: TrainingHouses, pool
     return run
 
 
-def train(config: HouseAgentConfig, out: str | Path, houses: TrainingHouses | None = None, progress: bool = True,
-          fresh: bool = False, command: str | None = None, cache_dir: str | None = None) -> HouseTrainRun:
+def train(
+    config: HouseAgentConfig,
+    out: str | Path,
+    houses: TrainingHouses | None = None,
+    progress: bool = True,
+    fresh: bool = False,
+    command: str | None = None,
+    cache_dir: str | None = None,
+) -> HouseTrainRun:
     """Train ``config`` into ``out`` (resuming what is there), pretraining the actor-critic
     first into ``out/pretrain`` unless ``config.pretrained`` names one (DQN needs none)."""
     torch.set_num_threads(1)  # small networks: threads cost more than they give
@@ -370,8 +451,18 @@ def train(config: HouseAgentConfig, out: str | Path, houses: TrainingHouses | No
         if config.pretrained:
             init_ac = load_checkpoint_file(Path(config.pretrained))["ac"]
         elif config.pretrain_steps > 0:
-            pre_config = replace(config, method="a3c", max_steps=config.option_steps, steps=config.pretrain_steps,
-                                 pretrain_steps=0, pretrained="", explorer="", relation=True, termination=True, high_level=True)
+            pre_config = replace(
+                config,
+                method="a3c",
+                max_steps=config.option_steps,
+                steps=config.pretrain_steps,
+                pretrain_steps=0,
+                pretrained="",
+                explorer="",
+                relation=True,
+                termination=True,
+                high_level=True,
+            )
             pre = _run_phase(pre_config, out / "pretrain", houses, "approach", progress, fresh, None)
             if pre.interrupted:
                 return pre
@@ -379,8 +470,9 @@ def train(config: HouseAgentConfig, out: str | Path, houses: TrainingHouses | No
     return _run_phase(config, out, houses, "search", progress, fresh, init_ac)
 
 
-def suite_training_houses(suite_name: str, observation: str = "gt", cache_dir: str | None = None,
-                          progress: bool = True) -> TrainingHouses:
+def suite_training_houses(
+    suite_name: str, observation: str = "gt", cache_dir: str | None = None, progress: bool = True
+) -> TrainingHouses:
     """The training houses and seen targets of a house suite (``objsearch.sim.suites``)."""
     from objsearch.sim.suites import load_suite_file, training_houses, training_targets
 

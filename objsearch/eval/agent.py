@@ -89,5 +89,7 @@ def is_batched(agent) -> bool:
     def definer(name: str) -> type | None:
         return next((k for k in mro if name in k.__dict__), None)
 
-    return all(definer(single) is None or issubclass(definer(batch), definer(single))
-               for single, batch in (("act", "act_batch"), ("reset", "reset_batch")))
+    return all(
+        definer(single) is None or issubclass(definer(batch), definer(single))
+        for single, batch in (("act", "act_batch"), ("reset", "reset_batch"))
+    )

@@ -46,8 +46,14 @@ def _predicted_sentence() -> str:
 
 
 def _world(title: str, suite: str, env, action_names, observation: str, actions: str) -> list[str]:
-    lines = [f"### {title}", "", f"As suite `{suite}` makes the env (`{type(env).__module__}.{type(env).__name__}`):", "",
-             "| observation key | space |", "|---|---|"]
+    lines = [
+        f"### {title}",
+        "",
+        f"As suite `{suite}` makes the env (`{type(env).__module__}.{type(env).__name__}`):",
+        "",
+        "| observation key | space |",
+        "|---|---|",
+    ]
     lines += [f"| `{key}` | `{space}` |" for key, space in env.observation_space.spaces.items()]
     lines += ["", observation, "", f"| action (`{env.action_space}`) | meaning |", "|---|---|"]
     lines += [f"| {i} | {action_names[i]} |" for i in range(env.action_space.n)]
@@ -65,18 +71,36 @@ def render() -> str:
 
     grid = make_suite("gridworld").make_env()
     house = make_suite("house-single").make_env()
-    lines = ["## Actions and observations", "",
-             "`reset(task)` gets the episode's `AgentTask`, `act(observation)` the env's observation, and",
-             "returns an action of `task.action_space`. (This section is generated from the envs; do not edit it.)",
-             ""]
-    lines += _world("Grid world (`gridworld`)", "gridworld", grid, ACTION_NAMES,
-                    docstring_section(GridWorldEnv, "Observation Space") + " The suite plays `observation=\"all_goals\"`.",
-                    docstring_section(GridWorldEnv, "Action Space"))
-    lines += _world("Houses (`house-single`, `house-multi`, `house-gen`, suite files)", "house-single", house, ACTIONS,
-                    docstring_section(HouseEnv, "Observation Space"), docstring_section(HouseEnv, "Action Space"))
-    lines += ["#### Ground-truth and predicted observations", "",
-              f"`--observation gt` (the default): `semantic` and `depth` are rendered ground truth. "
-              f"`--observation predicted`: the same keys and spaces. {_predicted_sentence()}", ""]
+    lines = [
+        "## Actions and observations",
+        "",
+        "`reset(task)` gets the episode's `AgentTask`, `act(observation)` the env's observation, and",
+        "returns an action of `task.action_space`. (This section is generated from the envs; do not edit it.)",
+        "",
+    ]
+    lines += _world(
+        "Grid world (`gridworld`)",
+        "gridworld",
+        grid,
+        ACTION_NAMES,
+        docstring_section(GridWorldEnv, "Observation Space") + ' The suite plays `observation="all_goals"`.',
+        docstring_section(GridWorldEnv, "Action Space"),
+    )
+    lines += _world(
+        "Houses (`house-single`, `house-multi`, `house-gen`, suite files)",
+        "house-single",
+        house,
+        ACTIONS,
+        docstring_section(HouseEnv, "Observation Space"),
+        docstring_section(HouseEnv, "Action Space"),
+    )
+    lines += [
+        "#### Ground-truth and predicted observations",
+        "",
+        f"`--observation gt` (the default): `semantic` and `depth` are rendered ground truth. "
+        f"`--observation predicted`: the same keys and spaces. {_predicted_sentence()}",
+        "",
+    ]
     return "\n".join(lines).strip("\n")
 
 

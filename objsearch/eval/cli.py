@@ -13,8 +13,15 @@ DEFAULT_BATCH = 32
 DEFAULT_VIDEO_EPISODES = 2
 # The flags that set suite options: attribute of the parsed arguments -> option of the suite
 # (each suite class names the options it takes; a flag its suite lacks is an error).
-SUITE_FLAGS = {"maps": "maps", "tasks": "tasks", "max_steps": "max_steps", "render": "mode", "cache_dir": "cache_dir",
-               "observation": "observation", "perception": "perception"}
+SUITE_FLAGS = {
+    "maps": "maps",
+    "tasks": "tasks",
+    "max_steps": "max_steps",
+    "render": "mode",
+    "cache_dir": "cache_dir",
+    "observation": "observation",
+    "perception": "perception",
+}
 
 
 def configure(parser: argparse.ArgumentParser) -> argparse.ArgumentParser:
@@ -23,19 +30,39 @@ def configure(parser: argparse.ArgumentParser) -> argparse.ArgumentParser:
     from objsearch.eval.config import PAPER_SEEDS
     from objsearch.eval.suites import DEFAULT_SUITE, SUITES
 
-    parser.add_argument("--agent", default=DEFAULT_AGENT,
-                        help=f"registered name, package.module:Class (also found in the current folder) or "
-                             f"path/to/file.py:Class (default: {DEFAULT_AGENT})")
-    parser.add_argument("--suite", help=f"suite to evaluate on: {', '.join(SUITES)}, or a suite file (.json) made by "
-                                        f"objsearch suite make (default: {DEFAULT_SUITE}; gridworld with --maps/--tasks)")
-    parser.add_argument("--split", action="append", dest="splits", metavar="NAME", help="split to run; repeat for several (default: all)")
     parser.add_argument(
-        "--seeds", type=seed_list, default=PAPER_SEEDS, help="comma-separated evaluation seeds (default: the paper's 1,5,13,45,99)"
+        "--agent",
+        default=DEFAULT_AGENT,
+        help=f"registered name, package.module:Class (also found in the current folder) or "
+        f"path/to/file.py:Class (default: {DEFAULT_AGENT})",
     )
-    parser.add_argument("--workers", type=positive_int, default=1, help="worker processes; results are identical for any number")
-    parser.add_argument("--batch", type=positive_int,
-                        help=f"episodes each worker plays in lockstep (batched agents decide for all in one call); "
-                             f"the same results for any N (default: {DEFAULT_BATCH})")
+    parser.add_argument(
+        "--suite",
+        help=f"suite to evaluate on: {', '.join(SUITES)}, or a suite file (.json) made by "
+        f"objsearch suite make (default: {DEFAULT_SUITE}; gridworld with --maps/--tasks)",
+    )
+    parser.add_argument(
+        "--split",
+        action="append",
+        dest="splits",
+        metavar="NAME",
+        help="split to run; repeat for several (default: all)",
+    )
+    parser.add_argument(
+        "--seeds",
+        type=seed_list,
+        default=PAPER_SEEDS,
+        help="comma-separated evaluation seeds (default: the paper's 1,5,13,45,99)",
+    )
+    parser.add_argument(
+        "--workers", type=positive_int, default=1, help="worker processes; results are identical for any number"
+    )
+    parser.add_argument(
+        "--batch",
+        type=positive_int,
+        help=f"episodes each worker plays in lockstep (batched agents decide for all in one call); "
+        f"the same results for any N (default: {DEFAULT_BATCH})",
+    )
     parser.add_argument("--checkpoint", help="checkpoint passed to the agent's load()")
     parser.add_argument(
         "--out", help="write the results JSON here; an interrupted run resumes from OUT.partial.jsonl when rerun"
@@ -44,26 +71,46 @@ def configure(parser: argparse.ArgumentParser) -> argparse.ArgumentParser:
     parser.add_argument("--tasks", help="grid world: a JSONL task file over --maps; one split named after the file")
     parser.add_argument("--max-steps", type=positive_int, help="step limit per episode (default: the suite's)")
     parser.add_argument(
-        "--render", choices=("cached", "live"), help="house suites: pre-rendered observations (default) or render each step"
+        "--render",
+        choices=("cached", "live"),
+        help="house suites: pre-rendered observations (default) or render each step",
     )
-    parser.add_argument("--cache-dir", help="house suites: observation cache folder (default: $OBJSEARCH_CACHE or ~/.cache/objsearch)")
     parser.add_argument(
-        "--observation", choices=("gt", "predicted"),
+        "--cache-dir", help="house suites: observation cache folder (default: $OBJSEARCH_CACHE or ~/.cache/objsearch)"
+    )
+    parser.add_argument(
+        "--observation",
+        choices=("gt", "predicted"),
         help="house suites: ground-truth segmentation and depth (default) or the perception network's predictions",
     )
-    parser.add_argument("--perception", metavar="CHECKPOINT", help="house suites, --observation predicted: the network (default: the shipped one)")
     parser.add_argument(
-        "--step-time-limit", type=seconds, default=10.0, metavar="SECONDS",
+        "--perception",
+        metavar="CHECKPOINT",
+        help="house suites, --observation predicted: the network (default: the shipped one)",
+    )
+    parser.add_argument(
+        "--step-time-limit",
+        type=seconds,
+        default=10.0,
+        metavar="SECONDS",
         help="an agent call that takes longer fails its episode (default: 10; 0: no limit)",
     )
     parser.add_argument("--executor", choices=EXECUTORS, default="local", help="local processes or a Ray cluster")
     parser.add_argument("--address", help="Ray cluster address (default: start a local cluster)")
-    parser.add_argument("--video", metavar="DIR",
-                        help="house suites: write the map (PNG) and view (MP4) of the first --video-episodes episodes "
-                             "of each split (first seed) here")
-    parser.add_argument("--video-episodes", type=positive_int, default=DEFAULT_VIDEO_EPISODES, metavar="N",
-                        help=f"with --video: episodes per split that get pictures; they play one at a time, the "
-                             f"rest batched (default: {DEFAULT_VIDEO_EPISODES}; what each costs: README)")
+    parser.add_argument(
+        "--video",
+        metavar="DIR",
+        help="house suites: write the map (PNG) and view (MP4) of the first --video-episodes episodes "
+        "of each split (first seed) here",
+    )
+    parser.add_argument(
+        "--video-episodes",
+        type=positive_int,
+        default=DEFAULT_VIDEO_EPISODES,
+        metavar="N",
+        help=f"with --video: episodes per split that get pictures; they play one at a time, the "
+        f"rest batched (default: {DEFAULT_VIDEO_EPISODES}; what each costs: README)",
+    )
     parser.add_argument("--list-agents", action="store_true", help="list the installed agents and exit")
     parser.add_argument("--quiet", action="store_true", help="no progress bar")
     parser.set_defaults(func=run)
@@ -96,11 +143,10 @@ def run(args: argparse.Namespace) -> int:
             print(f"{name:<28} {target}")
         return 0
 
-    from objsearch.eval.results import format_table
-    from objsearch.eval.config import EvalConfig
-    from objsearch.eval.runner import evaluate
-
     from objsearch.cluster import check_address, one_math_thread
+    from objsearch.eval.config import EvalConfig
+    from objsearch.eval.results import format_table
+    from objsearch.eval.runner import evaluate
     from objsearch.eval.suites import DEFAULT_SUITE
 
     check_address(args.address, args.executor)
@@ -119,14 +165,24 @@ def run(args: argparse.Namespace) -> int:
         step_time_limit=args.step_time_limit or None,
     )
     results = evaluate(
-        config, workers=args.workers, progress=not args.quiet, executor=args.executor, address=args.address, out=args.out,
-        video_dir=args.video, batch=args.batch or DEFAULT_BATCH, video_episodes=args.video_episodes,
+        config,
+        workers=args.workers,
+        progress=not args.quiet,
+        executor=args.executor,
+        address=args.address,
+        out=args.out,
+        video_dir=args.video,
+        batch=args.batch or DEFAULT_BATCH,
+        video_episodes=args.video_episodes,
     )
     failed = [r for r in results["episodes"] if "error" in r]
     if failed:  # first, so that a table of failures is never mistaken for a result
         first = failed[0]
-        print(f"{len(failed)} of {len(results['episodes'])} episode(s) failed with an agent error; the first, "
-              f"{first['split']}/seed {first['seed']}/{first['episode_id']}: {first['error']}", file=sys.stderr)
+        print(
+            f"{len(failed)} of {len(results['episodes'])} episode(s) failed with an agent error; the first, "
+            f"{first['split']}/seed {first['seed']}/{first['episode_id']}: {first['error']}",
+            file=sys.stderr,
+        )
         if "traceback" in first:
             print("its traceback (the agent's frames, innermost last):\n" + first["traceback"], file=sys.stderr)
         sys.stderr.flush()  # before the table on stdout
@@ -152,7 +208,9 @@ def suite_config(args: argparse.Namespace) -> dict:
             continue
         if option not in options:
             flag = "--" + attribute.replace("_", "-")
-            raise UserError(f"{flag} does not apply to suite {args.suite!r}; suites that take it: "
-                            f"{', '.join(suites_taking(option))}")
+            raise UserError(
+                f"{flag} does not apply to suite {args.suite!r}; suites that take it: "
+                f"{', '.join(suites_taking(option))}"
+            )
         config[option] = value
     return config

@@ -36,8 +36,11 @@ def describe_failure(err: BaseException, step_time_limit: float | None, steps: i
     if isinstance(err, StepTimeLimit):
         return f"step time limit of {step_time_limit:g} s exceeded at step {steps}", None
     message = f"{type(err).__name__}: {err}"
-    frames = [f for f in traceback.extract_tb(err.__traceback__)
-              if not f.filename.startswith(HARNESS) and f.filename != contextlib.__file__]
+    frames = [
+        f
+        for f in traceback.extract_tb(err.__traceback__)
+        if not f.filename.startswith(HARNESS) and f.filename != contextlib.__file__
+    ]
     if not frames:
         return message, None
     return message, "".join(traceback.format_list(frames[-TRACEBACK_FRAMES:])) + message
@@ -113,8 +116,9 @@ def start_episode(env, suite_name: str, split: str, episode: Episode, seed: int,
     return obs, agent_task(suite_name, split, episode, seed, info, env.observation_space, env.action_space)
 
 
-def agent_task(suite_name: str, split: str, episode: Episode, seed: int, info: dict, observation_space,
-               action_space) -> AgentTask:
+def agent_task(
+    suite_name: str, split: str, episode: Episode, seed: int, info: dict, observation_space, action_space
+) -> AgentTask:
     """The agent's ``AgentTask`` for an episode its env has just been reset to (``info``:
     the reset's info, checked against the suite's ``min_steps``)."""
     if info.get("min_steps", episode.min_steps) != episode.min_steps:
@@ -132,8 +136,9 @@ def agent_task(suite_name: str, split: str, episode: Episode, seed: int, info: d
     )
 
 
-def episode_record(split: str, seed: int, episode: Episode, success: bool, steps: int, error: str | None,
-                   trace: str | None = None) -> dict:
+def episode_record(
+    split: str, seed: int, episode: Episode, success: bool, steps: int, error: str | None, trace: str | None = None
+) -> dict:
     """The record of one played episode (``error`` set if the agent failed it, and
     ``traceback`` if that failure was raised in the agent's code)."""
     record = {

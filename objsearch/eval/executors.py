@@ -16,7 +16,9 @@ Done = Callable[[list[dict]], None]
 _worker: Worker | None = None  # the Worker of a local pool's process
 
 
-def _init_worker(config: EvalConfig, video_dir: str | None, batch: int, folder: str, video_units: frozenset | None) -> None:
+def _init_worker(
+    config: EvalConfig, video_dir: str | None, batch: int, folder: str, video_units: frozenset | None
+) -> None:
     global _worker
     _worker = Worker(config, video_dir, batch, folder, video_units)
 
@@ -34,8 +36,16 @@ def chunks(units: list[Unit], workers: int, batch: int = 1) -> list[list[Unit]]:
     return [units[i : i + size] for i in range(0, len(units), size)]
 
 
-def run_local(config: EvalConfig, units: list[Unit], workers: int, video_dir: str | None, done: Done,
-              batch: int = 1, folder: str | None = None, video_units: frozenset | None = None) -> None:
+def run_local(
+    config: EvalConfig,
+    units: list[Unit],
+    workers: int,
+    video_dir: str | None,
+    done: Done,
+    batch: int = 1,
+    folder: str | None = None,
+    video_units: frozenset | None = None,
+) -> None:
     """Play ``units`` in this process (``workers`` <= 1) or a pool of ``workers`` processes."""
     if workers <= 1:
         for record in Worker(config, video_dir, batch, folder, video_units).play(units):
@@ -46,8 +56,17 @@ def run_local(config: EvalConfig, units: list[Unit], workers: int, video_dir: st
             done(part)
 
 
-def run_ray(config: EvalConfig, units: list[Unit], workers: int, address: str | None, video_dir: str | None, done: Done,
-            batch: int = 1, folder: str | None = None, video_units: frozenset | None = None) -> None:
+def run_ray(
+    config: EvalConfig,
+    units: list[Unit],
+    workers: int,
+    address: str | None,
+    video_dir: str | None,
+    done: Done,
+    batch: int = 1,
+    folder: str | None = None,
+    video_units: frozenset | None = None,
+) -> None:
     """Play ``units`` on ``workers`` Ray actors (at least one per CPU of a cluster at ``address``;
     None: a local cluster started for the run)."""
     from objsearch.cluster import ray_session
@@ -57,7 +76,10 @@ def run_ray(config: EvalConfig, units: list[Unit], workers: int, address: str | 
 
         if address:
             workers = max(workers, int(ray.cluster_resources().get("CPU", 1)))
-        actors = [ray.remote(num_cpus=1)(Worker).remote(config, video_dir, batch, folder, video_units) for _ in range(workers)]
-        for part in ActorPool(actors).map_unordered(lambda actor, chunk: actor.run_chunk.remote(chunk),
-                                                    chunks(units, workers, batch)):
+        actors = [
+            ray.remote(num_cpus=1)(Worker).remote(config, video_dir, batch, folder, video_units) for _ in range(workers)
+        ]
+        for part in ActorPool(actors).map_unordered(
+            lambda actor, chunk: actor.run_chunk.remote(chunk), chunks(units, workers, batch)
+        ):
             done(part)

@@ -53,7 +53,9 @@ class EnvSlots:
 
     def start(self, starts: dict[int, tuple[Any, int]]) -> dict[int, tuple[Any, dict]]:
         """Reset the given slots' envs to their (episode, seed); returns each slot's (observation, info)."""
-        return {i: self.envs[i].reset(seed=seed, options={"task": episode.task}) for i, (episode, seed) in starts.items()}
+        return {
+            i: self.envs[i].reset(seed=seed, options={"task": episode.task}) for i, (episode, seed) in starts.items()
+        }
 
     def observation_space(self, i: int):
         """Slot ``i``'s env's observation space."""
@@ -124,8 +126,9 @@ def play_lockstep(
         started = env_slots.start({i: (episode, unit[1]) for i, (unit, episode) in starting.items()})
         for i, (unit, episode) in starting.items():
             obs, info = started[i]
-            task = agent_task(suite_name, unit[0], episode, unit[1], info, env_slots.observation_space(i),
-                              env_slots.action_space(i))
+            task = agent_task(
+                suite_name, unit[0], episode, unit[1], info, env_slots.observation_space(i), env_slots.action_space(i)
+            )
             slots[i] = Slot(unit, episode, task, obs)
         return {i: slots[i].task for i in starting}
 
@@ -162,7 +165,9 @@ def play_lockstep(
         if batched:
             actions, error = call(first.act_batch, {i: s.obs for i, s in slots.items()})
             if error is None and (not isinstance(actions, dict) or set(actions) != set(slots)):
-                error = RuntimeError(f"act_batch must return a dict with an action for each of the slots {sorted(slots)}")
+                error = RuntimeError(
+                    f"act_batch must return a dict with an action for each of the slots {sorted(slots)}"
+                )
             errors = dict.fromkeys(slots, error) if error else {}
         else:
             actions, errors = {}, {}
@@ -177,7 +182,13 @@ def play_lockstep(
             if i in errors:
                 done.append(failure(i, errors[i]))
             elif i not in stepped:
-                done.append(finish(i, False, f"ValueError: invalid action {actions[i]!r} for action space {env_slots.action_space(i)}"))
+                done.append(
+                    finish(
+                        i,
+                        False,
+                        f"ValueError: invalid action {actions[i]!r} for action space {env_slots.action_space(i)}",
+                    )
+                )
             else:
                 s.obs, terminated, truncated, info = stepped[i]
                 s.steps += 1

@@ -35,7 +35,11 @@ def success_rate(records: Sequence[dict]) -> float:
 
 def spl(records: Sequence[dict]) -> float:
     """Mean ``episode_spl`` over ``records``; NaN for none."""
-    return float(np.mean([episode_spl(r["success"], r["min_steps"], r["steps"]) for r in records])) if records else float("nan")
+    return (
+        float(np.mean([episode_spl(r["success"], r["min_steps"], r["steps"]) for r in records]))
+        if records
+        else float("nan")
+    )
 
 
 def average_steps(records: Sequence[dict]) -> tuple[float | None, float | None]:

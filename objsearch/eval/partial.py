@@ -35,8 +35,10 @@ class PartialResults:
                 first = None
             stored = first.get("partial_results_of") if isinstance(first, dict) else None
             if not isinstance(stored, dict):
-                raise UserError(f"{self.path} is not a partial-results file (its first line is not an evaluation's "
-                                "settings); delete it or choose another --out")
+                raise UserError(
+                    f"{self.path} is not a partial-results file (its first line is not an evaluation's "
+                    "settings); delete it or choose another --out"
+                )
             if stored != header["partial_results_of"]:
                 raise UserError(
                     f"{self.path} holds partial results of another evaluation ({_differences(stored, header['partial_results_of'])}); "
@@ -50,8 +52,11 @@ class PartialResults:
                     if number == len(lines):
                         break  # the write an interruption cut short
                 if not (isinstance(record, dict) and RECORD_KEYS <= record.keys()):
-                    print(f"warning: {self.path} line {number} is not an episode record ({line[:60]!r}); "
-                          "dropped, its episode runs again", file=sys.stderr)
+                    print(
+                        f"warning: {self.path} line {number} is not an episode record ({line[:60]!r}); "
+                        "dropped, its episode runs again",
+                        file=sys.stderr,
+                    )
                     continue
                 self.records.append(record)
             self.path.write_text("".join(json.dumps(x) + "\n" for x in [header, *self.records]))

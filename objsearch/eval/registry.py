@@ -48,8 +48,9 @@ def _import_file(path: Path, what: str):
     ``sys.modules`` under a name made from its absolute path, so its classes pickle)."""
     path = path.resolve()
     if not path.is_file():
-        raise UserError(f"{what}: no file {path}; give the path of the agent's .py file, "
-                        "relative to the current folder or absolute")
+        raise UserError(
+            f"{what}: no file {path}; give the path of the agent's .py file, relative to the current folder or absolute"
+        )
     name = f"objsearch_agent_file_{path.stem}_{hashlib.sha1(str(path).encode()).hexdigest()[:8]}"
     if name not in sys.modules:
         spec = importlib.util.spec_from_file_location(name, path)
@@ -77,9 +78,11 @@ def _import_target(target: str, what: str, folder: str | None = None):
             module = importlib.import_module(module_name)
         except ModuleNotFoundError as err:
             if err.name and module_name.startswith(err.name):
-                raise UserError(f"{what}: no module named {module_name!r}, neither installed nor in {folder}; "
-                                "install its package, run from the folder that holds it, or give its file "
-                                "(path/to/file.py:Class)") from None
+                raise UserError(
+                    f"{what}: no module named {module_name!r}, neither installed nor in {folder}; "
+                    "install its package, run from the folder that holds it, or give its file "
+                    "(path/to/file.py:Class)"
+                ) from None
             raise
     try:
         obj = module
@@ -124,8 +127,10 @@ def check_supports(spec: str, cls: type, suite: str) -> None:
         from objsearch.eval.suites import SUITES
 
         fits = [name for name in SUITES if suite_world(name) in worlds()]
-        raise UserError(f"agent {spec!r} runs in the {' and '.join(worlds())} world(s), not in suite {suite!r} "
-                        f"({world}); suites it supports: {', '.join(fits)}")
+        raise UserError(
+            f"agent {spec!r} runs in the {' and '.join(worlds())} world(s), not in suite {suite!r} "
+            f"({world}); suites it supports: {', '.join(fits)}"
+        )
 
 
 def make_agent(spec: str, checkpoint: str | None = None, suite: str | None = None, folder: str | None = None):

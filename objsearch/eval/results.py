@@ -89,7 +89,10 @@ def format_table(results: dict) -> str:
         row("Method", (f"{'SR':<{sr_w}}{'AS / MS':<{as_w}}{'SPL':<{spl_w}}" for _ in splits)),
         row(
             results["agent"].rsplit(":", 1)[-1][:14],  # a module:Class agent shows as its class
-            (f"{_fmt(s['sr']):<{sr_w}}{_fmt(s['as']) + ' / ' + _fmt(s['ms']):<{as_w}}{_fmt(s['spl']):<{spl_w}}" for s in splits),
+            (
+                f"{_fmt(s['sr']):<{sr_w}}{_fmt(s['as']) + ' / ' + _fmt(s['ms']):<{as_w}}{_fmt(s['spl']):<{spl_w}}"
+                for s in splits
+            ),
         ),
         row("  95% CI", (f"{interval(s['sr_ci']):<{sr_w + as_w}}{interval(s['spl_ci']):<{spl_w}}" for s in splits)),
         row("  std/seeds", (f"{_fmt(s['sr_std']):<{sr_w + as_w}}{_fmt(s['spl_std']):<{spl_w}}" for s in splits)),

@@ -55,7 +55,13 @@ def run_units(
         raise UserError(f"unknown executor {executor!r}; choose one of {', '.join(EXECUTORS)}")
     finished = {(r["split"], r["seed"], r["episode_id"]): r for r in (partial.records if partial else [])}
     todo = [u for u in units if u not in finished]
-    bar = tqdm(total=len(units), initial=len(units) - len(todo), desc=f"{config.agent} on {config.suite}", unit="ep", disable=not progress or None)
+    bar = tqdm(
+        total=len(units),
+        initial=len(units) - len(todo),
+        desc=f"{config.agent} on {config.suite}",
+        unit="ep",
+        disable=not progress or None,
+    )
 
     def done(records: list[dict]) -> None:
         for r in records:
@@ -84,8 +90,11 @@ def plan_units(suite, splits: list[str], seeds: tuple[int, ...]) -> list[Unit]:
 def video_units_of(suite, splits: list[str], seeds: tuple[int, ...], episodes: int) -> list[Unit]:
     """The units that get a video: the first ``episodes`` episodes (by id) of each split,
     with the first seed."""
-    return [(split, seeds[0], ep.episode_id) for split in splits
-            for ep in sorted(suite.episodes(split), key=lambda ep: ep.episode_id)[:episodes]]
+    return [
+        (split, seeds[0], ep.episode_id)
+        for split in splits
+        for ep in sorted(suite.episodes(split), key=lambda ep: ep.episode_id)[:episodes]
+    ]
 
 
 def evaluate(
@@ -124,15 +133,17 @@ def evaluate(
     folder = os.getcwd()
     agent = make_agent(config.agent, config.checkpoint, config.suite, folder)  # fail fast, before any worker starts
     # replace, not a new EvalConfig: every other field (and any field added later) is kept
-    config = replace(config, splits=tuple(splits), suite_config=suite.config(),
-                     weights_sha256=getattr(agent, "weights_sha256", None))
+    config = replace(
+        config, splits=tuple(splits), suite_config=suite.config(), weights_sha256=getattr(agent, "weights_sha256", None)
+    )
     del agent
     partial = PartialResults(f"{out}.partial.jsonl", config) if out else None
     try:
         units = plan_units(suite, splits, config.seeds)
         video_units = video_units_of(suite, splits, config.seeds, video_episodes) if video_dir else None
-        records = run_units(config, units, workers, executor, address, partial, progress, video_dir, batch, folder,
-                            video_units)
+        records = run_units(
+            config, units, workers, executor, address, partial, progress, video_dir, batch, folder, video_units
+        )
     finally:
         if partial:
             partial.close()

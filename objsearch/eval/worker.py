@@ -24,8 +24,14 @@ class Worker:
     lockstep (``objsearch.eval.lockstep``): in the suite's own slots if it has them
     (``make_slots``), else one env per slot."""
 
-    def __init__(self, config: EvalConfig, video_dir: str | None = None, batch: int = 1, folder: str | None = None,
-                 video_units: Iterable[Unit] | None = None):
+    def __init__(
+        self,
+        config: EvalConfig,
+        video_dir: str | None = None,
+        batch: int = 1,
+        folder: str | None = None,
+        video_units: Iterable[Unit] | None = None,
+    ):
         self.config, self.video_dir, self.batch, self.folder = config, video_dir, int(batch), folder
         self.video_units = None if video_units is None else frozenset(map(tuple, video_units))
         self.suite = make_suite(config.suite, **config.suite_config)
@@ -45,7 +51,9 @@ class Worker:
         episode = self.episode(split, episode_id)
         video = self.wants_video((split, seed, episode_id))
         trajectory = [] if video else None
-        record = run_episode(self.agent, self.env, self.suite.name, split, episode, seed, self.config.step_time_limit, trajectory)
+        record = run_episode(
+            self.agent, self.env, self.suite.name, split, episode, seed, self.config.step_time_limit, trajectory
+        )
         if video:
             self.suite.write_video(self.video_dir, record, episode, trajectory)
         return record

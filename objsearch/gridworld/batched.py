@@ -106,7 +106,9 @@ class GridTables:
         # channel 0 is obstacles, and cells off the map read as obstacle
         padded[:, 0] = np.pad(obstacles, ((0, 0), (HALF, HALF), (HALF, HALF)), constant_values=True)
         views = np.lib.stride_tricks.sliding_window_view(padded, (WINDOW, WINDOW), axis=(2, 3))  # (M, C, H, W, 7, 7)
-        windows = np.ascontiguousarray(views.transpose(0, 2, 3, 1, 4, 5)).reshape(num_maps, cells, 1 + num_goals, WINDOW, WINDOW)
+        windows = np.ascontiguousarray(views.transpose(0, 2, 3, 1, 4, 5)).reshape(
+            num_maps, cells, 1 + num_goals, WINDOW, WINDOW
+        )
 
         return cls(
             names=tuple(m.name for m in maps),
@@ -230,7 +232,9 @@ class BatchedGridWorld:
             self.reset(np.flatnonzero(done))
         return self.observe(), success.astype(np.float32), success, truncated, info
 
-    def step_envs(self, env_ids, actions) -> tuple[dict[str, np.ndarray], np.ndarray, np.ndarray, np.ndarray, dict[str, np.ndarray]]:
+    def step_envs(
+        self, env_ids, actions
+    ) -> tuple[dict[str, np.ndarray], np.ndarray, np.ndarray, np.ndarray, dict[str, np.ndarray]]:
         """Move only the envs ``env_ids`` (distinct), each by its action in ``actions``; the
         others stay as they are (their step counts too). Returns what ``step`` does, with
         arrays of length ``len(env_ids)`` in ``env_ids``' order. No autoreset: the episodes

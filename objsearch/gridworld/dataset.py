@@ -18,7 +18,15 @@ import numpy as np
 
 from objsearch.fileio import atomic_write
 from objsearch.gridworld.maps import GridMap, generate_map, load_map_dir, save_map
-from objsearch.gridworld.tasks import ALL_GOALS, SEEN_GOALS, UNSEEN_GOALS, GridTask, load_tasks, sample_tasks, save_tasks
+from objsearch.gridworld.tasks import (
+    ALL_GOALS,
+    SEEN_GOALS,
+    UNSEEN_GOALS,
+    GridTask,
+    load_tasks,
+    sample_tasks,
+    save_tasks,
+)
 
 DATA_VERSION = "gridworld-v1"
 DATA_DIR = Path(__file__).parent / "data"

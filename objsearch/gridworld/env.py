@@ -120,7 +120,13 @@ class GridWorldEnv(gymnasium.Env):
             raise ValueError(f"invalid action {action!r}; expected an int in [0, {NUM_ACTIONS})")
         obs, reward, terminated, truncated, _ = self._world.step(np.array([action]))
         self._done = bool(terminated[0] or truncated[0])
-        return self._obs(obs), float(reward[0]), bool(terminated[0]), bool(truncated[0]), self._info(bool(terminated[0]))
+        return (
+            self._obs(obs),
+            float(reward[0]),
+            bool(terminated[0]),
+            bool(truncated[0]),
+            self._info(bool(terminated[0])),
+        )
 
     def render(self):
         """The map as an RGB image (16 px a cell) in ``rgb_array`` mode, else None.

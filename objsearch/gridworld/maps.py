@@ -95,11 +95,7 @@ def _place_goals(obstacles: np.ndarray, rng: np.random.Generator) -> np.ndarray 
             candidates = [tuple(cell) for cell in free]
         else:
             pr, pc = goals[i - 1]
-            candidates = [
-                (r, c)
-                for r, c in free
-                if max(abs(r - pr), abs(c - pc)) in (2, 3)
-            ]
+            candidates = [(r, c) for r, c in free if max(abs(r - pr), abs(c - pc)) in (2, 3)]
         candidates = [cell for cell in candidates if cell not in taken]
         if not candidates:
             return None
@@ -157,7 +153,9 @@ def load_map(path: str | os.PathLike) -> GridMap:
     except (OSError, ValueError, zipfile.BadZipFile, EOFError) as err:
         raise UserError(f"cannot read map file {path}: {err}; expected an .npz with 'obstacles' and 'goals'") from None
     except KeyError as err:
-        raise UserError(f"map file {path} has no array {err}; expected 'obstacles' (uint8 HxW) and 'goals' (int Gx2)") from None
+        raise UserError(
+            f"map file {path} has no array {err}; expected 'obstacles' (uint8 HxW) and 'goals' (int Gx2)"
+        ) from None
     grid_map = GridMap(name=path.stem, obstacles=obstacles, goals=goals.astype(np.int64))
     validate_map(grid_map, str(path))
     return grid_map

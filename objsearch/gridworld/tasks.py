@@ -85,8 +85,7 @@ def load_tasks(path: str | os.PathLike, maps: dict[str, GridMap]) -> list[GridTa
             map_name, start, goal = item["map"], item["start"], item["goal"]
         except (json.JSONDecodeError, TypeError, KeyError) as err:
             raise UserError(
-                f"{where}: malformed task line ({err}); expected "
-                '{"map": "map_0005", "start": [7, 10], "goal": 14}'
+                f'{where}: malformed task line ({err}); expected {{"map": "map_0005", "start": [7, 10], "goal": 14}}'
             ) from None
         tasks.append(make_task(maps, map_name, start, goal, source=where))
     if not tasks:

@@ -64,7 +64,9 @@ def load_manifest() -> dict:
     """The mesh library's ``manifest.json`` (read once); ``UserError`` if the library is not built."""
     path = assets_dir() / "meshes" / "manifest.json"
     if not path.exists():
-        raise UserError(f"mesh library not found at {path}; build it with `objsearch data rebuild assets` or set OBJSEARCH_ASSETS")
+        raise UserError(
+            f"mesh library not found at {path}; build it with `objsearch data rebuild assets` or set OBJSEARCH_ASSETS"
+        )
     with open(path) as f:
         return json.load(f)
 

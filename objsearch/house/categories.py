@@ -68,6 +68,7 @@ GREEN = ((0.2, 0.5, 0.22), (0.3, 0.6, 0.3), (0.18, 0.42, 0.3))
 _LIVING, _KITCHEN, _DINING, _BED, _BATH, _OFFICE, _HALL = ROOM_TYPES
 
 # (name, placement, size_min, size_max, colors, extra keyword arguments). Order = id order.
+# fmt: off
 _TABLE = [
     ("sofa", "group", (1.6, 0.8, 0.75), (2.3, 1.0, 0.95), FABRIC, {}),
     ("armchair", "wall", (0.7, 0.7, 0.75), (0.95, 0.9, 1.0), FABRIC, dict(rooms={_LIVING: 0.6, _BED: 0.15, _OFFICE: 0.1})),
@@ -131,9 +132,12 @@ _TABLE = [
     ("bench", "wall", (1.0, 0.35, 0.42), (1.4, 0.45, 0.48), WOOD, dict(rooms={_HALL: 0.5, _DINING: 0.1})),
     ("stool", "corner", (0.3, 0.3, 0.45), (0.4, 0.4, 0.75), WOOD + METAL, dict(rooms={_KITCHEN: 0.4, _BATH: 0.1}, round=True)),
 ]
+# fmt: on
 
 CATEGORIES: tuple[Category, ...] = tuple(
-    Category(id=FIRST_OBJECT_ID + i, name=name, placement=placement, size_min=smin, size_max=smax, colors=colors, **extra)
+    Category(
+        id=FIRST_OBJECT_ID + i, name=name, placement=placement, size_min=smin, size_max=smax, colors=colors, **extra
+    )
     for i, (name, placement, smin, smax, colors, extra) in enumerate(_TABLE)
 )
 BY_NAME: dict[str, Category] = {c.name: c for c in CATEGORIES}

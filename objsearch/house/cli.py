@@ -16,13 +16,23 @@ from objsearch.errors import UserError
 
 def add_parser(subparsers) -> None:
     """Add ``objsearch generate`` to ``subparsers``."""
-    p = subparsers.add_parser("generate", help="generate MuJoCo houses (house.xml, spec.json, preview.png)", description=__doc__,
-                              formatter_class=argparse.RawDescriptionHelpFormatter)
+    p = subparsers.add_parser(
+        "generate",
+        help="generate MuJoCo houses (house.xml, spec.json, preview.png)",
+        description=__doc__,
+        formatter_class=argparse.RawDescriptionHelpFormatter,
+    )
     p.add_argument("--seed", type=non_negative_int, default=0, help="first seed (default: 0)")
     p.add_argument("--num", type=positive_int, default=1, help="number of houses, seeds S..S+N-1 (default: 1)")
     p.add_argument("--out", required=True, help="output directory")
-    p.add_argument("--rooms", choices=("small", "medium", "large"), help="size class: 3-4, 4-6 or 6-9 rooms (default: drawn per seed)")
-    p.add_argument("--split", choices=("train", "test"), default="train", help="test houses use the reserved mesh variants")
+    p.add_argument(
+        "--rooms",
+        choices=("small", "medium", "large"),
+        help="size class: 3-4, 4-6 or 6-9 rooms (default: drawn per seed)",
+    )
+    p.add_argument(
+        "--split", choices=("train", "test"), default="train", help="test houses use the reserved mesh variants"
+    )
     p.add_argument("--no-preview", action="store_true", help="skip preview.png")
     p.add_argument("--quiet", action="store_true", help="no progress bar")
     p.set_defaults(func=run)

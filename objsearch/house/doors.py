@@ -74,7 +74,7 @@ def place_doors(rects: list[Rect], types: list[str], rng: np.random.Generator, t
     noise = {e: rng.uniform(0, 0.5) for e in sorted(nbrs)}
     while len(in_tree) < n:
         best = None
-        for (i, j) in sorted(nbrs):
+        for i, j in sorted(nbrs):
             if (i in in_tree) == (j in in_tree):
                 continue
             inside = i if i in in_tree else j
@@ -85,7 +85,7 @@ def place_doors(rects: list[Rect], types: list[str], rng: np.random.Generator, t
             raise StageFailure("rooms cannot all be connected by doors (no shared wall long enough)")
         edges.append(best[1])
         in_tree.update(best[1])
-    for (i, j) in sorted(nbrs):
+    for i, j in sorted(nbrs):
         if (i, j) not in edges and types[i] in PUBLIC and types[j] in PUBLIC and rng.random() < 0.4:
             edges.append((i, j))
     doors = []
@@ -113,8 +113,15 @@ def _cut(lo: float, hi: float, holes: list[tuple[float, float]]) -> list[tuple[f
     return [(a, b) for a, b in pieces if b - a > 1e-6]
 
 
-def build_walls(rects: list[Rect], doors: list[Door], footprint: tuple[float, float], thickness: float, height: float,
-                wall_materials: list[str], exterior_material: str) -> list[Wall]:
+def build_walls(
+    rects: list[Rect],
+    doors: list[Door],
+    footprint: tuple[float, float],
+    thickness: float,
+    height: float,
+    wall_materials: list[str],
+    exterior_material: str,
+) -> list[Wall]:
     """The walls of every room (inner half-walls, outer ones on the footprint edge), cut at the doors."""
     t = thickness / 2
     width, depth = footprint
@@ -133,12 +140,23 @@ def build_walls(rects: list[Rect], doors: list[Door], footprint: tuple[float, fl
         for direction, fixed, lo, hi, inner, outer in sides:
             holes = []
             for d in doors:
-                if rid in d.rooms and d.axis == direction and abs((d.center[1] if direction == "x" else d.center[0]) - fixed) < 1e-6:
+                if (
+                    rid in d.rooms
+                    and d.axis == direction
+                    and abs((d.center[1] if direction == "x" else d.center[0]) - fixed) < 1e-6
+                ):
                     c = d.center[0] if direction == "x" else d.center[1]
                     holes.append((c - d.width / 2, c + d.width / 2))
             exterior = (direction == "x" and fixed in (0.0, depth)) or (direction == "y" and fixed in (0.0, width))
             for a, b in _cut(lo, hi, holes):
                 add(rid, inner(a, b), wall_materials[rid])
                 if exterior:
-                    add(-1, outer(a - t if a <= 1e-6 else a, b + t if b >= (width if direction == "x" else depth) - 1e-6 else b), exterior_material)
+                    add(
+                        -1,
+                        outer(
+                            a - t if a <= 1e-6 else a,
+                            b + t if b >= (width if direction == "x" else depth) - 1e-6 else b,
+                        ),
+                        exterior_material,
+                    )
     return walls

@@ -24,7 +24,15 @@ SIZE_CLASSES = {
 }
 
 # Relative size rank of each room type (largest first); noise keeps it from being rigid.
-SIZE_RANK = {"living_room": 1.0, "dining_room": 0.62, "kitchen": 0.58, "bedroom": 0.5, "office": 0.36, "hallway": 0.3, "bathroom": 0.15}
+SIZE_RANK = {
+    "living_room": 1.0,
+    "dining_room": 0.62,
+    "kitchen": 0.58,
+    "bedroom": 0.5,
+    "office": 0.36,
+    "hallway": 0.3,
+    "bathroom": 0.15,
+}
 EXTRA_WEIGHTS = {"bedroom": 3.0, "dining_room": 2.0, "office": 2.0, "bathroom": 1.5, "hallway": 1.5}
 EXTRA_CAPS = {"bedroom": 4, "dining_room": 1, "office": 2, "bathroom": 3, "hallway": 1}
 
@@ -78,9 +86,9 @@ def split_rooms(width: float, depth: float, num_rooms: int, rng: np.random.Gener
                 cut = _snap(lo + (hi - lo) * rng.uniform(0.35, 0.65))
                 cut = min(max(cut, _snap(lo + MIN_ROOM_SIDE + GRID / 2)), _snap(hi - MIN_ROOM_SIDE - GRID / 2))
                 if axis == "x":
-                    rects[i:i + 1] = [(x0, y0, cut, y1), (cut, y0, x1, y1)]
+                    rects[i : i + 1] = [(x0, y0, cut, y1), (cut, y0, x1, y1)]
                 else:
-                    rects[i:i + 1] = [(x0, y0, x1, cut), (x0, cut, x1, y1)]
+                    rects[i : i + 1] = [(x0, y0, x1, cut), (x0, cut, x1, y1)]
                 done = True
                 break
             if done:
@@ -100,7 +108,11 @@ def assign_types(rects: list[Rect], types: list[str], rng: np.random.Generator) 
     if "hallway" in pending:
         largest = int(np.argmax(areas))
         cands = [i for i in free if i != largest]
-        aspect = [max(rects[i][2] - rects[i][0], rects[i][3] - rects[i][1]) / min(rects[i][2] - rects[i][0], rects[i][3] - rects[i][1]) for i in cands]
+        aspect = [
+            max(rects[i][2] - rects[i][0], rects[i][3] - rects[i][1])
+            / min(rects[i][2] - rects[i][0], rects[i][3] - rects[i][1])
+            for i in cands
+        ]
         h = cands[int(np.argmax(aspect))]
         assigned[h] = "hallway"
         free.remove(h)

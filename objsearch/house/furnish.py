@@ -49,7 +49,8 @@ def _u_of(L: RoomLayout, obj: ObjectInstance) -> tuple[str, float]:
 
 def _all_fit(L: RoomLayout, boxes) -> bool:
     return all(L.fits(b) for b in boxes) and not any(
-        a[0] < b[3] and b[0] < a[3] and a[1] < b[4] and b[1] < a[4] for i, a in enumerate(boxes) for b in boxes[i + 1:])
+        a[0] < b[3] and b[0] < a[3] and a[1] < b[4] and b[1] < a[4] for i, a in enumerate(boxes) for b in boxes[i + 1 :]
+    )
 
 
 def _on_top_at(L: RoomLayout, name: str, parent: ObjectInstance, lx: float, ly: float, size, group=None):
@@ -90,13 +91,20 @@ def sofa_group(L: RoomLayout, gid: str) -> bool:
             view = rng.uniform(2.2, 3.2)
             free = view
             tp = L.wall_position(side, us, stand[1], gap=GAP + sofa[1] + view)
-            behind = box_of(*L.wall_position(side, us, 0.6, gap=GAP + sofa[1] + view + stand[1]), 0.0, (stand[0] + 0.4, 0.6, 1.0), SIDES[side][0])
+            behind = box_of(
+                *L.wall_position(side, us, 0.6, gap=GAP + sofa[1] + view + stand[1]),
+                0.0,
+                (stand[0] + 0.4, 0.6, 1.0),
+                SIDES[side][0],
+            )
             boxes.append(behind)
         boxes.append(box_of(*tp, 0.0, stand, SIDES[opp][0]))
         if not _all_fit(L, boxes):
             continue
         s = L.place(category("sofa"), sofa, *sp, 0.0, SIDES[side][0], "wall", group=gid)
-        t = L.place(category("tv_stand"), stand, *tp, 0.0, SIDES[opp][0], "wall" if behind is None else "middle", group=gid)
+        t = L.place(
+            category("tv_stand"), stand, *tp, 0.0, SIDES[opp][0], "wall" if behind is None else "middle", group=gid
+        )
         if behind is not None:
             L.block(behind)
         tv = L.sample_size(category("tv"), max_width=stand[0] - 0.04)
@@ -142,7 +150,11 @@ def dining_group(L: RoomLayout, gid: str) -> bool:
         if not L.fits((x - hx - clear, y - hy - clear, 0.0, x + hx + clear, y + hy + clear, th)):
             continue
         table = L.place(category("dining_table"), (tw, td, th), x, y, 0.0, yaw, "middle", group=gid)
-        seats = [((i + 0.5) * tw / per_side - tw / 2, sy * off_y, 0 if sy < 0 else 180) for i in range(per_side) for sy in (-1, 1)]
+        seats = [
+            ((i + 0.5) * tw / per_side - tw / 2, sy * off_y, 0 if sy < 0 else 180)
+            for i in range(per_side)
+            for sy in (-1, 1)
+        ]
         if ends:
             seats += [(-off_x, 0.0, 270), (off_x, 0.0, 90)]
         for lx, ly, cyaw in seats:
@@ -182,7 +194,9 @@ def bed_group(L: RoomLayout, gid: str) -> bool:
         # corridor beside the bed, from the nightstand to the foot of the bed
         corridors = []
         for sg, p in zip(signs, nps):
-            cx, cy = L.wall_position(side, u + sg * (bed[0] / 2 + 2 * GAP + slot / 2), bed[1] - ns[1] - GAP, gap=2 * GAP + ns[1])
+            cx, cy = L.wall_position(
+                side, u + sg * (bed[0] / 2 + 2 * GAP + slot / 2), bed[1] - ns[1] - GAP, gap=2 * GAP + ns[1]
+            )
             corridors.append(box_of(cx, cy, 0.0, (slot - GAP, bed[1] - ns[1] - GAP, 1.0), yaw))
         if not _all_fit(L, boxes + corridors):
             continue
@@ -217,7 +231,14 @@ def bathroom_group(L: RoomLayout, gid: str) -> bool:
     if tub:
         side, u = _u_of(L, tub)
         half = (tub.size[0] - towel[0]) / 2 - 0.02
-        L.try_on_wall(category("towel"), towel, side=side, u_range=(u - half, u + half), z=tub.size[2] + rng.uniform(0.4, 0.6), group=gid)
+        L.try_on_wall(
+            category("towel"),
+            towel,
+            side=side,
+            u_range=(u - half, u + half),
+            z=tub.size[2] + rng.uniform(0.4, 0.6),
+            group=gid,
+        )
     else:
         L.try_on_wall(category("towel"), towel, z=rng.uniform(0.9, 1.2), group=gid)
     toilet = L.try_wall(category("toilet"), access=0.5, group=gid)
@@ -228,14 +249,24 @@ def bathroom_group(L: RoomLayout, gid: str) -> bool:
         tp = L.sample_size(category("toilet_paper"))
         for sign in (1, -1):
             uu = u + sign * (toilet.size[0] / 2 + 0.12 + tp[0] / 2)
-            if L.try_on_wall(category("toilet_paper"), tp, tries=1, side=side, u_range=(uu, uu), z=rng.uniform(0.6, 0.72), group=gid):
+            if L.try_on_wall(
+                category("toilet_paper"), tp, tries=1, side=side, u_range=(uu, uu), z=rng.uniform(0.6, 0.72), group=gid
+            ):
                 break
     sink = L.try_wall(category("sink"), access=0.5, group=gid)
     if sink is None:
         return False
     side, u = _u_of(L, sink)
     mirror = L.sample_size(category("mirror"), max_width=sink.size[0] + 0.1)
-    L.try_on_wall(category("mirror"), mirror, tries=3, side=side, u_range=(u, u), z=sink.size[2] + rng.uniform(0.25, 0.4), group=gid)
+    L.try_on_wall(
+        category("mirror"),
+        mirror,
+        tries=3,
+        side=side,
+        u_range=(u, u),
+        z=sink.size[2] + rng.uniform(0.25, 0.4),
+        group=gid,
+    )
     return True
 
 
@@ -274,7 +305,9 @@ def desk_group(L: RoomLayout, gid: str, computer: bool = True) -> bool:
         if rng.random() < 0.5:
             lamp = L.sample_size(category("desk_lamp"))
             sign = 1 if rng.random() < 0.5 else -1
-            _on_top_at(L, "desk_lamp", d, sign * (desk[0] / 2 - 0.03 - lamp[0] / 2), back + 0.03 + lamp[1] / 2, lamp, gid)
+            _on_top_at(
+                L, "desk_lamp", d, sign * (desk[0] / 2 - 0.03 - lamp[0] / 2), back + 0.03 + lamp[1] / 2, lamp, gid
+            )
         return True
     return False
 
@@ -293,12 +326,17 @@ def kitchen_group(L: RoomLayout, gid: str) -> bool:
         if length < 2.5:
             continue
         fridge = L.sample_size(category("fridge"))
-        modules = [("stove", r4(round(rng.uniform(0.6, 0.76), 2))), ("sink_counter", r4(round(rng.uniform(0.8, 1.2), 2)))]
+        modules = [
+            ("stove", r4(round(rng.uniform(0.6, 0.76), 2))),
+            ("sink_counter", r4(round(rng.uniform(0.8, 1.2), 2))),
+        ]
         if rng.random() < 0.6:
             modules.append(("dishwasher", 0.6))
         target = min(length - 2 * GAP, rng.uniform(2.5, 4.5))
         while fridge[0] + sum(w for _, w in modules) + 0.6 <= target:
-            modules.append(("counter", r4(round(rng.uniform(0.6, min(1.2, target - fridge[0] - sum(w for _, w in modules))), 2))))
+            modules.append(
+                ("counter", r4(round(rng.uniform(0.6, min(1.2, target - fridge[0] - sum(w for _, w in modules))), 2)))
+            )
         order = [modules[int(i)] for i in rng.permutation(len(modules))]
         run = [("fridge", fridge[0])] + order if rng.random() < 0.5 else order + [("fridge", fridge[0])]
         total = sum(w for _, w in run) + GAP * (len(run) - 1)

@@ -85,19 +85,34 @@ def build_spec(seed: int, size_class: str, split: str, attempt: int) -> HouseSpe
         x0, y0, x1, y1 = (r4(v) for v in rect)
         rooms.append(Room(i, t, ((x0, y0), (x1, y0), (x1, y1), (x0, y1)), floor.name, wall.name))
     materials.append(EXTERIOR)
-    walls = build_walls(rects, doors, (width, depth), WALL_THICKNESS, WALL_HEIGHT, [r.wall_material for r in rooms], EXTERIOR.name)
+    walls = build_walls(
+        rects, doors, (width, depth), WALL_THICKNESS, WALL_HEIGHT, [r.wall_material for r in rooms], EXTERIOR.name
+    )
     h = WALL_THICKNESS / 2
     interiors = [(r4(x0 + h), r4(y0 + h), r4(x1 - h), r4(y1 - h)) for x0, y0, x1, y1 in rects]
     objects = furnish(HouseContext(rng, split), rooms, interiors, doors, WALL_HEIGHT)
     return HouseSpec(
-        house_id=house_id(seed, split), seed=seed, split=split, size_class=size_class, attempt=attempt,
-        generator_version=HOUSE_GENERATOR_VERSION, category_table_version=CATEGORY_TABLE_VERSION,
-        footprint=(width, depth), wall_height=WALL_HEIGHT, wall_thickness=WALL_THICKNESS,
-        rooms=tuple(rooms), doors=tuple(doors), walls=tuple(walls), objects=tuple(objects), materials=tuple(materials),
+        house_id=house_id(seed, split),
+        seed=seed,
+        split=split,
+        size_class=size_class,
+        attempt=attempt,
+        generator_version=HOUSE_GENERATOR_VERSION,
+        category_table_version=CATEGORY_TABLE_VERSION,
+        footprint=(width, depth),
+        wall_height=WALL_HEIGHT,
+        wall_thickness=WALL_THICKNESS,
+        rooms=tuple(rooms),
+        doors=tuple(doors),
+        walls=tuple(walls),
+        objects=tuple(objects),
+        materials=tuple(materials),
     )
 
 
-def generate_house(seed: int, size_class: str | None = None, split: str = "train", validate: bool = True) -> GeneratedHouse:
+def generate_house(
+    seed: int, size_class: str | None = None, split: str = "train", validate: bool = True
+) -> GeneratedHouse:
     """Generate, compile and (with ``validate``) check the house of ``seed``, retrying up to ``MAX_ATTEMPTS``.
 
     Raises ``UserError`` for an unknown split or size class, ``HouseGenerationError`` if no attempt is valid.
@@ -123,7 +138,9 @@ def generate_house(seed: int, size_class: str | None = None, split: str = "train
         if report.ok:
             return GeneratedHouse(spec, xml, model, report)
         failures.append(f"attempt {attempt}: " + "; ".join(report.problems[:3]))
-    raise HouseGenerationError(f"seed {seed} ({size_class}, {split}): no valid house in {MAX_ATTEMPTS} attempts:\n  " + "\n  ".join(failures))
+    raise HouseGenerationError(
+        f"seed {seed} ({size_class}, {split}): no valid house in {MAX_ATTEMPTS} attempts:\n  " + "\n  ".join(failures)
+    )
 
 
 def write_house(house: GeneratedHouse, out_dir: str | Path, preview: bool = True) -> Path:

@@ -18,13 +18,13 @@ from objsearch.house.materials import object_color
 from objsearch.house.spec import ObjectInstance, r4
 
 EPS = 1e-4
-GAP = 0.01           # between objects, and between a floor object's back and the wall
-WALL_GAP = 0.002     # between a wall-mounted object and the wall
+GAP = 0.01  # between objects, and between a floor object's back and the wall
+WALL_GAP = 0.002  # between a wall-mounted object and the wall
 SURFACE_GAP = 0.001  # between an object and the surface it stands on
-ACCESS_DEPTH = 0.5   # free strip kept in front of wall furniture
+ACCESS_DEPTH = 0.5  # free strip kept in front of wall furniture
 ACCESS_HEIGHT = 1.2
 EDGE_BAND_PARENTS = ("dining_table",)
-EDGE_BAND = 0.3      # small objects on a dining table stay this close to a long edge
+EDGE_BAND = 0.3  # small objects on a dining table stay this close to a long edge
 
 # side -> (yaw, inward normal)
 SIDES = {"S": (0, (0.0, 1.0)), "N": (180, (0.0, -1.0)), "W": (270, (1.0, 0.0)), "E": (90, (-1.0, 0.0))}
@@ -42,14 +42,23 @@ def box_of(x: float, y: float, z: float, size, yaw: int) -> Box:
 
 def overlaps(a: Box, b: Box, eps: float = EPS) -> bool:
     """Whether boxes ``a`` and ``b`` overlap by more than ``eps`` along all three axes."""
-    return a[0] < b[3] - eps and b[0] < a[3] - eps and a[1] < b[4] - eps and b[1] < a[4] - eps and a[2] < b[5] - eps and b[2] < a[5] - eps
+    return (
+        a[0] < b[3] - eps
+        and b[0] < a[3] - eps
+        and a[1] < b[4] - eps
+        and b[1] < a[4] - eps
+        and a[2] < b[5] - eps
+        and b[2] < a[5] - eps
+    )
 
 
 def rotate_rect(rect, yaw: int):
     """Rotate a local rect (x0, y0, x1, y1) about the origin by a multiple of 90 degrees."""
     x0, y0, x1, y1 = rect
     corners = [(x0, y0), (x1, y1)]
-    rot = {0: lambda x, y: (x, y), 90: lambda x, y: (-y, x), 180: lambda x, y: (-x, -y), 270: lambda x, y: (y, -x)}[yaw % 360]
+    rot = {0: lambda x, y: (x, y), 90: lambda x, y: (-y, x), 180: lambda x, y: (-x, -y), 270: lambda x, y: (y, -x)}[
+        yaw % 360
+    ]
     pts = [rot(x, y) for x, y in corners]
     return (min(p[0] for p in pts), min(p[1] for p in pts), max(p[0] for p in pts), max(p[1] for p in pts))
 
@@ -72,7 +81,9 @@ class HouseContext:
         self.counts: dict[str, int] = {}
         self.objects: list[ObjectInstance] = []
 
-    def new_instance(self, cat: Category, room: int, pos, yaw: int, size, placement: str, parent=None, group=None) -> ObjectInstance:
+    def new_instance(
+        self, cat: Category, room: int, pos, yaw: int, size, placement: str, parent=None, group=None
+    ) -> ObjectInstance:
         """Create, record and return the next ``cat`` instance (numbered per category) in ``room``.
 
         Draws its variant (among the split's) and colour from the house rng; ``parent`` and ``group`` are names.
@@ -81,8 +92,19 @@ class HouseContext:
         self.counts[cat.name] = i + 1
         names = assets.variants(cat.name, self.split)
         variant = names[int(self.rng.integers(len(names)))]
-        obj = ObjectInstance(cat.name, i, variant, room, tuple(r4(v) for v in pos), int(yaw) % 360, tuple(size),
-                             object_color(cat, self.rng), placement, parent, group)
+        obj = ObjectInstance(
+            cat.name,
+            i,
+            variant,
+            room,
+            tuple(r4(v) for v in pos),
+            int(yaw) % 360,
+            tuple(size),
+            object_color(cat, self.rng),
+            placement,
+            parent,
+            group,
+        )
         self.objects.append(obj)
         return obj
 
@@ -112,7 +134,9 @@ class RoomLayout:
         """Centre of a footprint ``depth`` deep with its back on wall ``side``, ``u`` along it."""
         x0, y0, x1, y1 = self.interior
         off = gap + depth / 2
-        return {"S": (x0 + u, y0 + off), "N": (x0 + u, y1 - off), "W": (x0 + off, y0 + u), "E": (x1 - off, y0 + u)}[side]
+        return {"S": (x0 + u, y0 + off), "N": (x0 + u, y1 - off), "W": (x0 + off, y0 + u), "E": (x1 - off, y0 + u)}[
+            side
+        ]
 
     def along(self, side: str, x: float, y: float) -> float:
         """Inverse of ``wall_position`` for the coordinate along the wall."""
@@ -165,8 +189,21 @@ class RoomLayout:
             s[1] = s[0]
         return (r4(s[0]), r4(s[1]), r4(s[2]))
 
-    def place(self, cat: Category, size, x: float, y: float, z: float, yaw: int, placement: str, parent: ObjectInstance | None = None,
-              group: str | None = None, inside: bool = True, check: bool = True, access: float = 0.0) -> ObjectInstance | None:
+    def place(
+        self,
+        cat: Category,
+        size,
+        x: float,
+        y: float,
+        z: float,
+        yaw: int,
+        placement: str,
+        parent: ObjectInstance | None = None,
+        group: str | None = None,
+        inside: bool = True,
+        check: bool = True,
+        access: float = 0.0,
+    ) -> ObjectInstance | None:
         """Place ``cat`` with footprint centre (x, y), base z, and block its box; None if it does not fit.
 
         ``check=False`` places it without the fit check; ``access`` > 0 keeps that deep a strip in front of it free.
@@ -177,14 +214,18 @@ class RoomLayout:
         gap = 0.0 if placement == "on_wall" else GAP
         if check and not self.fits(box, ignore=ignore, inside=inside, gap=gap):
             return None
-        obj = self.ctx.new_instance(cat, self.room_id, (x, y, z), yaw, size, placement, parent.name if parent else None, group)
+        obj = self.ctx.new_instance(
+            cat, self.room_id, (x, y, z), yaw, size, placement, parent.name if parent else None, group
+        )
         self.objects.append(obj)
         self.block(obj.box, obj.name)
         if access > 0:
             self.keep_front(obj, access)
         return obj
 
-    def try_wall(self, cat: Category, size=None, tries: int = 20, access: float = ACCESS_DEPTH, corner: bool = False, group=None):
+    def try_wall(
+        self, cat: Category, size=None, tries: int = 20, access: float = ACCESS_DEPTH, corner: bool = False, group=None
+    ):
         """Place ``cat`` with its back against a random wall (``corner``: at one end of it); None after ``tries``.
 
         ``access``: depth of the strip kept free in front of it.
@@ -200,7 +241,9 @@ class RoomLayout:
             else:
                 u = self.span(GAP + size[0] / 2, length - GAP - size[0] / 2)
             x, y = self.wall_position(side, u, size[1])
-            obj = self.place(cat, size, x, y, 0.0, SIDES[side][0], "corner" if corner else "wall", access=access, group=group)
+            obj = self.place(
+                cat, size, x, y, 0.0, SIDES[side][0], "corner" if corner else "wall", access=access, group=group
+            )
             if obj:
                 return obj
         return None
@@ -216,7 +259,14 @@ class RoomLayout:
                 return None
             x = self.span(x0 + clearance + w / 2, x1 - clearance - w / 2)
             y = self.span(y0 + clearance + d / 2, y1 - clearance - d / 2)
-            outer = (x - w / 2 - clearance, y - d / 2 - clearance, 0.0, x + w / 2 + clearance, y + d / 2 + clearance, size[2])
+            outer = (
+                x - w / 2 - clearance,
+                y - d / 2 - clearance,
+                0.0,
+                x + w / 2 + clearance,
+                y + d / 2 + clearance,
+                size[2],
+            )
             if self.fits(outer):
                 return self.place(cat, size, x, y, 0.0, yaw, "middle", group=group)
         return None
@@ -241,7 +291,9 @@ class RoomLayout:
                 return obj
         return None
 
-    def try_on_top(self, cat: Category, parents=None, tries: int = 12, size=None, group=None, face_parent: bool = True, where=None):
+    def try_on_top(
+        self, cat: Category, parents=None, tries: int = 12, size=None, group=None, face_parent: bool = True, where=None
+    ):
         """Stand ``cat`` on a receptacle in the room (or one of ``parents``); None if none has room.
 
         ``face_parent``: take the parent's yaw (else a random one); ``where(parent, w, d, rect)`` picks (x, y)

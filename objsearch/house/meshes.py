@@ -56,7 +56,9 @@ def legs(x, y, z0, z1, t, round_=False):
     """Four legs inset at +-x, +-y."""
     if round_:
         return [cyl(sx * x, sy * y, z0, z1, t / 2, 8) for sx in (-1, 1) for sy in (-1, 1)]
-    return [box(sx * x - t / 2, sy * y - t / 2, z0, sx * x + t / 2, sy * y + t / 2, z1) for sx in (-1, 1) for sy in (-1, 1)]
+    return [
+        box(sx * x - t / 2, sy * y - t / 2, z0, sx * x + t / 2, sy * y + t / 2, z1) for sx in (-1, 1) for sy in (-1, 1)
+    ]
 
 
 # --- families -------------------------------------------------------------------------
@@ -71,7 +73,11 @@ def table(style, rng):
     if style == 0:
         parts += legs(0.5 - t, 0.5 - t, 0, z, t * 1.4)
     elif style == 1:  # panel ends
-        parts += [box(-0.46, -0.4, 0, -0.46 + t, 0.4, z), box(0.46 - t, -0.4, 0, 0.46, 0.4, z), box(-0.46, -0.05, 0.1, 0.46, 0.05, 0.18)]
+        parts += [
+            box(-0.46, -0.4, 0, -0.46 + t, 0.4, z),
+            box(0.46 - t, -0.4, 0, 0.46, 0.4, z),
+            box(-0.46, -0.05, 0.1, 0.46, 0.05, 0.18),
+        ]
     elif style == 2:  # pedestal
         parts += [cyl(0, 0, 0.05, z, 0.1), cyl(0, 0, 0, 0.05, 0.35, 16)]
         parts[0] = cyl(0, 0, z, 1.0, 0.5, 20)
@@ -103,7 +109,11 @@ def shelf(style, rng):
     """Open shelving (bookshelf, shoe rack): sides, back and 4-6 boards; style 3 adds a closed bottom."""
     t = rng.uniform(0.03, 0.05)
     n = 3 + style % 3
-    parts = [box(-0.5, -0.5, 0, -0.5 + t, 0.5, 1), box(0.5 - t, -0.5, 0, 0.5, 0.5, 1), box(-0.5, -0.5, 0, 0.5, -0.45, 1)]
+    parts = [
+        box(-0.5, -0.5, 0, -0.5 + t, 0.5, 1),
+        box(0.5 - t, -0.5, 0, 0.5, 0.5, 1),
+        box(-0.5, -0.5, 0, 0.5, -0.45, 1),
+    ]
     for i in range(n + 1):
         z = min(i / n, 1 - t)
         parts.append(box(-0.5, -0.5, z, 0.5, 0.5, z + t))
@@ -140,12 +150,20 @@ def chair(style, rng):
     """Dining chairs: legs or panel sides, a seat and a solid or framed back."""
     if style == 1:  # chair with panel sides instead of legs
         t = 0.06
-        return [box(-0.5, -0.5, 0, -0.5 + t, 0.5, 0.45), box(0.5 - t, -0.5, 0, 0.5, 0.5, 0.45), box(-0.5, -0.5, 0.4, 0.5, 0.5, 0.47),
-                box(-0.5, -0.5, 0.47, 0.5, -0.42, 1.0)], None
+        return [
+            box(-0.5, -0.5, 0, -0.5 + t, 0.5, 0.45),
+            box(0.5 - t, -0.5, 0, 0.5, 0.5, 0.45),
+            box(-0.5, -0.5, 0.4, 0.5, 0.5, 0.47),
+            box(-0.5, -0.5, 0.47, 0.5, -0.42, 1.0),
+        ], None
     parts = legs(0.45, 0.45, 0, 0.42, 0.07, round_=style == 2)
     parts.append(box(-0.5, -0.5, 0.42, 0.5, 0.5, 0.48))
     if style == 3:
-        parts += [box(-0.5, -0.5, 0.48, -0.42, -0.42, 1.0), box(0.42, -0.5, 0.48, 0.5, -0.42, 1.0), box(-0.5, -0.5, 0.8, 0.5, -0.42, 1.0)]
+        parts += [
+            box(-0.5, -0.5, 0.48, -0.42, -0.42, 1.0),
+            box(0.42, -0.5, 0.48, 0.5, -0.42, 1.0),
+            box(-0.5, -0.5, 0.8, 0.5, -0.42, 1.0),
+        ]
     else:
         parts.append(box(-0.5, -0.5, 0.48, 0.5, -0.42, 1.0))
     return parts, None
@@ -200,12 +218,42 @@ def vessel(style, rng, kind):
     """Revolved things: vases, bottles, cups, pots, bins."""
     w = rng.uniform(0.8, 1.0)
     profiles = {
-        "vase": [[(0.3, 0), (0.5, 0.35), (0.25 * w, 0.8), (0.3, 1.0)], [(0.4, 0), (0.5, 0.5), (0.4, 1.0)], [(0.25, 0), (0.5, 0.6), (0.2, 0.9), (0.25, 1.0)], [(0.5, 0), (0.5, 1.0)]],
-        "bottle": [[(0.5, 0), (0.5, 0.6), (0.15, 0.8), (0.15, 1.0)], [(0.45, 0), (0.5, 0.5), (0.2, 0.75), (0.15, 1.0)], [(0.5, 0), (0.5, 0.7), (0.2, 0.85), (0.2, 1.0)], [(0.4, 0), (0.5, 0.4), (0.4, 0.7), (0.15, 1.0)]],
-        "cup": [[(0.4, 0), (0.5, 1.0)], [(0.5, 0), (0.5, 1.0)], [(0.3, 0), (0.5, 0.7), (0.5, 1.0)], [(0.45, 0), (0.38, 0.5), (0.5, 1.0)]],
-        "bowl": [[(0.25, 0), (0.45, 0.6), (0.5, 1.0)], [(0.3, 0), (0.5, 0.4), (0.5, 1.0)], [(0.2, 0), (0.5, 1.0)], [(0.35, 0), (0.45, 0.3), (0.5, 1.0)]],
-        "bin": [[(0.42, 0), (0.5, 1.0)], [(0.5, 0), (0.5, 1.0)], [(0.45, 0), (0.5, 0.9), (0.45, 1.0)], [(0.5, 0), (0.42, 1.0)]],
-        "candle": [[(0.5, 0), (0.5, 0.85), (0.1, 0.9), (0.05, 1.0)], [(0.5, 0), (0.45, 0.8), (0.05, 1.0)], [(0.5, 0), (0.5, 0.1), (0.3, 0.15), (0.3, 1.0)], [(0.4, 0), (0.5, 0.2), (0.35, 0.9), (0.05, 1.0)]],
+        "vase": [
+            [(0.3, 0), (0.5, 0.35), (0.25 * w, 0.8), (0.3, 1.0)],
+            [(0.4, 0), (0.5, 0.5), (0.4, 1.0)],
+            [(0.25, 0), (0.5, 0.6), (0.2, 0.9), (0.25, 1.0)],
+            [(0.5, 0), (0.5, 1.0)],
+        ],
+        "bottle": [
+            [(0.5, 0), (0.5, 0.6), (0.15, 0.8), (0.15, 1.0)],
+            [(0.45, 0), (0.5, 0.5), (0.2, 0.75), (0.15, 1.0)],
+            [(0.5, 0), (0.5, 0.7), (0.2, 0.85), (0.2, 1.0)],
+            [(0.4, 0), (0.5, 0.4), (0.4, 0.7), (0.15, 1.0)],
+        ],
+        "cup": [
+            [(0.4, 0), (0.5, 1.0)],
+            [(0.5, 0), (0.5, 1.0)],
+            [(0.3, 0), (0.5, 0.7), (0.5, 1.0)],
+            [(0.45, 0), (0.38, 0.5), (0.5, 1.0)],
+        ],
+        "bowl": [
+            [(0.25, 0), (0.45, 0.6), (0.5, 1.0)],
+            [(0.3, 0), (0.5, 0.4), (0.5, 1.0)],
+            [(0.2, 0), (0.5, 1.0)],
+            [(0.35, 0), (0.45, 0.3), (0.5, 1.0)],
+        ],
+        "bin": [
+            [(0.42, 0), (0.5, 1.0)],
+            [(0.5, 0), (0.5, 1.0)],
+            [(0.45, 0), (0.5, 0.9), (0.45, 1.0)],
+            [(0.5, 0), (0.42, 1.0)],
+        ],
+        "candle": [
+            [(0.5, 0), (0.5, 0.85), (0.1, 0.9), (0.05, 1.0)],
+            [(0.5, 0), (0.45, 0.8), (0.05, 1.0)],
+            [(0.5, 0), (0.5, 0.1), (0.3, 0.15), (0.3, 1.0)],
+            [(0.4, 0), (0.5, 0.2), (0.35, 0.9), (0.05, 1.0)],
+        ],
     }[kind]
     parts = [revolve([(0.0, 0.0)] + profiles[style % 4] + [(0.0, profiles[style % 4][-1][1])])]
     if kind == "cup" and style % 2 == 0:
@@ -232,7 +280,12 @@ def pot(style, rng):
 def kettle(style, rng):
     """Kettles: a straight or tapered body, a lid, a spout and a handle."""
     body = cyl(0, 0, 0, 0.75, 0.35, 14) if style % 2 == 0 else revolve([(0, 0), (0.35, 0), (0.3, 0.75), (0, 0.75)])
-    return [body, cyl(0, 0, 0.75, 0.82, 0.1, 8), box(-0.05, 0.1, 0.75, 0.05, 0.5, 1.0) if style < 2 else hcyl(-0.5, -0.3, 0, 0.6, 0.05), box(-0.05, -0.5, 0.2, 0.05, -0.3, 0.9)], None
+    return [
+        body,
+        cyl(0, 0, 0.75, 0.82, 0.1, 8),
+        box(-0.05, 0.1, 0.75, 0.05, 0.5, 1.0) if style < 2 else hcyl(-0.5, -0.3, 0, 0.6, 0.05),
+        box(-0.05, -0.5, 0.2, 0.05, -0.3, 0.9),
+    ], None
 
 
 def plant(style, rng):
@@ -242,11 +295,17 @@ def plant(style, rng):
     if style == 0:
         parts.append(blob(0, 0, (1 + pot_h) / 2, 0.5, 0.5, (1 - pot_h) / 2))
     elif style == 1:
-        parts += [cyl(0, 0, pot_h, 0.7, 0.03, 6), blob(0, 0, 0.82, 0.45, 0.45, 0.18), blob(0.2, 0.1, 0.62, 0.2, 0.2, 0.12)]
+        parts += [
+            cyl(0, 0, pot_h, 0.7, 0.03, 6),
+            blob(0, 0, 0.82, 0.45, 0.45, 0.18),
+            blob(0.2, 0.1, 0.62, 0.2, 0.2, 0.12),
+        ]
     elif style == 2:
         parts += [box(-0.04 + dx, -0.04, pot_h, 0.04 + dx, 0.04, 1.0 - abs(dx)) for dx in (-0.2, 0.0, 0.2)]
     else:
-        parts += [blob(dx, dy, pot_h + 0.25, 0.25, 0.25, 0.25) for dx, dy in ((-0.2, -0.2), (0.2, 0.2), (0.2, -0.2))] + [blob(0, 0, 0.75, 0.35, 0.35, 0.25)]
+        parts += [
+            blob(dx, dy, pot_h + 0.25, 0.25, 0.25, 0.25) for dx, dy in ((-0.2, -0.2), (0.2, 0.2), (0.2, -0.2))
+        ] + [blob(0, 0, 0.75, 0.35, 0.35, 0.25)]
     return parts, None
 
 
@@ -255,7 +314,12 @@ def panel(style, rng, frame=True):
     parts = [box(-0.5, -0.5, 0, 0.5, 0.1, 1.0)]
     if frame and style != 1:
         f = 0.06 if style == 0 else 0.1
-        parts += [box(-0.5, 0.1, 0, 0.5, 0.5, f), box(-0.5, 0.1, 1 - f, 0.5, 0.5, 1), box(-0.5, 0.1, 0, -0.5 + f, 0.5, 1), box(0.5 - f, 0.1, 0, 0.5, 0.5, 1)]
+        parts += [
+            box(-0.5, 0.1, 0, 0.5, 0.5, f),
+            box(-0.5, 0.1, 1 - f, 0.5, 0.5, 1),
+            box(-0.5, 0.1, 0, -0.5 + f, 0.5, 1),
+            box(0.5 - f, 0.1, 0, 0.5, 0.5, 1),
+        ]
     else:
         parts.append(box(-0.45, 0.1, 0.05, 0.45, 0.5, 0.95))
     if style == 3:
@@ -282,7 +346,12 @@ def screen(style, rng, stand=True):
         if style in (0, 3):
             parts += [box(-0.15, -0.5, 0, 0.15, 0.5, 0.03), box(-0.04, -0.1, 0.03, 0.04, 0.05, foot + 0.05)]
         else:
-            parts += [box(-0.45, -0.5, 0, -0.35, 0.5, 0.03), box(0.35, -0.5, 0, 0.45, 0.5, 0.03), box(-0.42, -0.05, 0, -0.38, 0.05, foot + 0.05), box(0.38, -0.05, 0, 0.42, 0.05, foot + 0.05)]
+            parts += [
+                box(-0.45, -0.5, 0, -0.35, 0.5, 0.03),
+                box(0.35, -0.5, 0, 0.45, 0.5, 0.03),
+                box(-0.42, -0.05, 0, -0.38, 0.05, foot + 0.05),
+                box(0.38, -0.05, 0, 0.42, 0.05, foot + 0.05),
+            ]
     if style == 2:
         parts.append(box(-0.2, -0.5, foot, 0.2, -0.1, 0.6))  # back box
     if style == 3:
@@ -292,7 +361,10 @@ def screen(style, rng, stand=True):
 
 def laptop(style, rng):
     """Laptops: a base and an upright lid at the back edge (higher styles move it forward)."""
-    return [box(-0.5, -0.5, 0, 0.5, 0.5, 0.08), box(-0.5, -0.5 + 0.05 * style, 0.08, 0.5, -0.4 + 0.05 * style, 1.0)], None
+    return [
+        box(-0.5, -0.5, 0, 0.5, 0.5, 0.08),
+        box(-0.5, -0.5 + 0.05 * style, 0.08, 0.5, -0.4 + 0.05 * style, 1.0),
+    ], None
 
 
 def slab(style, rng, keys=False):
@@ -340,9 +412,15 @@ def appliance(style, rng, tall=False, burners=False):
         split = 0.6 + 0.1 * (style % 3)
         parts += [box(-0.48, 0.45, 0.02, 0.48, 0.47, split - 0.01), box(-0.48, 0.45, split + 0.01, 0.48, 0.47, 0.98)]
         hx = 0.38 if style != 3 else -0.38
-        parts += [box(hx - 0.02, 0.47, split - 0.2, hx + 0.02, 0.5, split - 0.02), box(hx - 0.02, 0.47, split + 0.02, hx + 0.02, 0.5, split + 0.25)]
+        parts += [
+            box(hx - 0.02, 0.47, split - 0.2, hx + 0.02, 0.5, split - 0.02),
+            box(hx - 0.02, 0.47, split + 0.02, hx + 0.02, 0.5, split + 0.25),
+        ]
     else:
-        parts += [box(-0.46, 0.45, 0.08, 0.46, 0.47, 0.75), box(-0.4, 0.47, 0.7 - 0.05 * style, 0.4, 0.5, 0.73 - 0.05 * style)]
+        parts += [
+            box(-0.46, 0.45, 0.08, 0.46, 0.47, 0.75),
+            box(-0.4, 0.47, 0.7 - 0.05 * style, 0.4, 0.5, 0.73 - 0.05 * style),
+        ]
         if burners:
             parts += [box(-0.35 + 0.2 * i, 0.45, 0.85, -0.3 + 0.2 * i, 0.5, 0.9) for i in range(4)]  # knobs
     return parts, FULL_TOP
@@ -350,7 +428,11 @@ def appliance(style, rng, tall=False, burners=False):
 
 def counter(style, rng):
     """Kitchen counters: a worktop over a carcass with 1-3 doors; style 3 adds a rail."""
-    parts = [box(-0.5, -0.5, 0.96, 0.5, 0.5, 1.0), box(-0.48, -0.5, 0.1, 0.48, 0.42, 0.96), box(-0.46, -0.5, 0, 0.46, 0.36, 0.1)]
+    parts = [
+        box(-0.5, -0.5, 0.96, 0.5, 0.5, 1.0),
+        box(-0.48, -0.5, 0.1, 0.48, 0.42, 0.96),
+        box(-0.46, -0.5, 0, 0.46, 0.36, 0.1),
+    ]
     n = 1 + style % 3
     for i in range(n):
         x0 = -0.46 + i * 0.92 / n
@@ -364,7 +446,10 @@ def kitchen_sink(style, rng):
     """Kitchen sinks (set on a counter): a basin slab with a faucet."""
     parts = [box(-0.5, -0.1, 0, 0.5, 0.5, 0.12)]
     faucet_x = 0.0 if style != 2 else 0.3
-    parts += [cyl(faucet_x, -0.3, 0, 0.9, 0.04, 8), box(faucet_x - 0.03, -0.3, 0.85, faucet_x + 0.03, 0.1 if style != 1 else -0.05, 1.0)]
+    parts += [
+        cyl(faucet_x, -0.3, 0, 0.9, 0.04, 8),
+        box(faucet_x - 0.03, -0.3, 0.85, faucet_x + 0.03, 0.1 if style != 1 else -0.05, 1.0),
+    ]
     if style == 3:
         parts.append(box(-0.5, -0.5, 0, 0.5, -0.4, 0.05))
     return parts, None
@@ -387,7 +472,10 @@ def sink(style, rng):
         if style == 3:
             parts.append(box(-0.45, 0.42, 0.1, 0.45, 0.45, 0.8))
     else:  # pedestal (style 1) or wall-hung with a trap (style 2)
-        parts = [cyl(0, -0.1, 0, 0.75, 0.12, 8) if style == 1 else cyl(0, -0.3, 0.3, 0.75, 0.05, 6), box(-0.5, -0.5, 0.75, 0.5, 0.5, 0.94)]
+        parts = [
+            cyl(0, -0.1, 0, 0.75, 0.12, 8) if style == 1 else cyl(0, -0.3, 0.3, 0.75, 0.05, 6),
+            box(-0.5, -0.5, 0.75, 0.5, 0.5, 0.94),
+        ]
         if style == 2:
             parts.append(box(-0.05, -0.5, 0, 0.05, -0.45, 0.3))
     parts += [cyl(0, -0.4, 0.94, 1.0, 0.03, 6)]
@@ -397,8 +485,13 @@ def sink(style, rng):
 def bathtub(style, rng):
     """Bathtubs: a floor and four walls; styles add feet, a tap, an apron and a rim."""
     t = 0.08
-    parts = [box(-0.5, -0.5, 0, 0.5, 0.5, 0.15), box(-0.5, -0.5, 0, -0.5 + t, 0.5, 1), box(0.5 - t, -0.5, 0, 0.5, 0.5, 1),
-             box(-0.5, -0.5, 0, 0.5, -0.5 + t * 1.5, 1), box(-0.5, 0.5 - t * 1.5, 0, 0.5, 0.5, 1)]
+    parts = [
+        box(-0.5, -0.5, 0, 0.5, 0.5, 0.15),
+        box(-0.5, -0.5, 0, -0.5 + t, 0.5, 1),
+        box(0.5 - t, -0.5, 0, 0.5, 0.5, 1),
+        box(-0.5, -0.5, 0, 0.5, -0.5 + t * 1.5, 1),
+        box(-0.5, 0.5 - t * 1.5, 0, 0.5, 0.5, 1),
+    ]
     if style == 1:
         parts += legs(0.45, 0.4, 0, 0.1, 0.06)
     if style == 2:
@@ -421,7 +514,10 @@ def towel(style, rng):
 
 def toilet_paper(style, rng):
     """Toilet-paper holders: a wall plate with a roll."""
-    parts = [box(-0.5, -0.5, 0.2 if style != 2 else 0.0, 0.5, -0.35, 1.0), hcyl(-0.45, 0.45, 0.05, 0.55, 0.42 if style != 1 else 0.35)]
+    parts = [
+        box(-0.5, -0.5, 0.2 if style != 2 else 0.0, 0.5, -0.35, 1.0),
+        hcyl(-0.45, 0.45, 0.05, 0.55, 0.42 if style != 1 else 0.35),
+    ]
     if style == 3:
         parts.append(box(-0.5, -0.5, 0.95, 0.5, 0.5, 1.0))
     return parts, None
@@ -430,7 +526,10 @@ def toilet_paper(style, rng):
 def rack(style, rng):
     """Coat rack: pole with hooks on a base."""
     parts = [cyl(0, 0, 0, 0.05, 0.45 if style != 1 else 0.3, 10), cyl(0, 0, 0.05, 1.0, 0.05, 8)]
-    parts += [box(-0.5, -0.04, 0.85 - 0.05 * style, 0.5, 0.04, 0.9 - 0.05 * style), box(-0.04, -0.5, 0.8, 0.04, 0.5, 0.85)]
+    parts += [
+        box(-0.5, -0.04, 0.85 - 0.05 * style, 0.5, 0.04, 0.9 - 0.05 * style),
+        box(-0.04, -0.5, 0.8, 0.04, 0.5, 0.85),
+    ]
     if style == 1:
         parts += legs(0.4, 0.4, 0, 0.05, 0.1)
     return parts, None
@@ -532,8 +631,10 @@ def build(category: str, style: int, rng: np.random.Generator) -> tuple[trimesh.
         z, x0, y0, x1, y1 = surface
         surface = (
             float(z * scale[2] + offset[2]),
-            float(x0 * scale[0] + offset[0]), float(y0 * scale[1] + offset[1]),
-            float(x1 * scale[0] + offset[0]), float(y1 * scale[1] + offset[1]),
+            float(x0 * scale[0] + offset[0]),
+            float(y0 * scale[1] + offset[1]),
+            float(x1 * scale[0] + offset[0]),
+            float(y1 * scale[1] + offset[1]),
         )
     return mesh, surface
 

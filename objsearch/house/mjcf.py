@@ -52,30 +52,58 @@ def build_mjspec(spec: HouseSpec) -> mujoco.MjSpec:
     files = {}
     for m in spec.materials:
         if m.texture == "checker":
-            tex = s.add_texture(name=f"tex_{m.name}", type=mujoco.mjtTexture.mjTEXTURE_2D, builtin=mujoco.mjtBuiltin.mjBUILTIN_CHECKER,
-                                rgb1=list(m.rgba[:3]), rgb2=list(m.rgba2[:3]), width=64, height=64)
+            tex = s.add_texture(
+                name=f"tex_{m.name}",
+                type=mujoco.mjtTexture.mjTEXTURE_2D,
+                builtin=mujoco.mjtBuiltin.mjBUILTIN_CHECKER,
+                rgb1=list(m.rgba[:3]),
+                rgb2=list(m.rgba2[:3]),
+                width=64,
+                height=64,
+            )
             mat = s.add_material(name=m.name, texrepeat=[m.repeat, m.repeat], texuniform=True)
             mat.textures[mujoco.mjtTextureRole.mjTEXROLE_RGB] = tex.name
         else:
             mat = s.add_material(name=m.name, rgba=list(m.rgba))
     world = s.worldbody
     width, depth = spec.footprint
-    world.add_light(name="sun", pos=[width / 2, depth / 2, 6.0], dir=[0.3, 0.2, -1.0], type=mujoco.mjtLightType.mjLIGHT_DIRECTIONAL,
-                    diffuse=[0.6, 0.6, 0.6], castshadow=False)
+    world.add_light(
+        name="sun",
+        pos=[width / 2, depth / 2, 6.0],
+        dir=[0.3, 0.2, -1.0],
+        type=mujoco.mjtLightType.mjLIGHT_DIRECTIONAL,
+        diffuse=[0.6, 0.6, 0.6],
+        castshadow=False,
+    )
     for r in spec.rooms:
         x0, y0, x1, y1 = r.bounds
-        world.add_geom(name=f"floor_r{r.id}", type=mujoco.mjtGeom.mjGEOM_BOX, material=r.floor_material,
-                       pos=[(x0 + x1) / 2, (y0 + y1) / 2, -FLOOR_THICKNESS / 2], size=[(x1 - x0) / 2, (y1 - y0) / 2, FLOOR_THICKNESS / 2])
+        world.add_geom(
+            name=f"floor_r{r.id}",
+            type=mujoco.mjtGeom.mjGEOM_BOX,
+            material=r.floor_material,
+            pos=[(x0 + x1) / 2, (y0 + y1) / 2, -FLOOR_THICKNESS / 2],
+            size=[(x1 - x0) / 2, (y1 - y0) / 2, FLOOR_THICKNESS / 2],
+        )
     for w in spec.walls:
         x0, y0, x1, y1 = w.box
-        world.add_geom(name=f"wall_w{w.id}", type=mujoco.mjtGeom.mjGEOM_BOX, material=w.material,
-                       pos=[(x0 + x1) / 2, (y0 + y1) / 2, w.height / 2], size=[(x1 - x0) / 2, (y1 - y0) / 2, w.height / 2])
+        world.add_geom(
+            name=f"wall_w{w.id}",
+            type=mujoco.mjtGeom.mjGEOM_BOX,
+            material=w.material,
+            pos=[(x0 + x1) / 2, (y0 + y1) / 2, w.height / 2],
+            size=[(x1 - x0) / 2, (y1 - y0) / 2, w.height / 2],
+        )
     t = spec.wall_thickness / 2
     for d in spec.doors:
         hx, hy = (d.width / 2, t) if d.axis == "x" else (t, d.width / 2)
         hz = (spec.wall_height - d.height) / 2
-        world.add_geom(name=f"door_d{d.id}", type=mujoco.mjtGeom.mjGEOM_BOX, material=spec.room(d.rooms[0]).wall_material,
-                       pos=[d.center[0], d.center[1], d.height + hz], size=[hx, hy, hz])
+        world.add_geom(
+            name=f"door_d{d.id}",
+            type=mujoco.mjtGeom.mjGEOM_BOX,
+            material=spec.room(d.rooms[0]).wall_material,
+            pos=[d.center[0], d.center[1], d.height + hz],
+            size=[hx, hy, hz],
+        )
     for o in spec.objects:
         f = assets.mesh_file(o.category, o.variant)
         files[f] = assets.mesh_bytes(o.category, o.variant)

@@ -27,8 +27,8 @@ AGENT_HEIGHT = 1.6
 class OccupancyGrid:
     """Where the agent can stand: cells of ``resolution`` metres from ``origin`` (row = y, col = x)."""
 
-    free: np.ndarray          # bool (rows, cols): the agent's centre may be here
-    obstacles: np.ndarray     # bool (rows, cols): a wall or object covers the cell centre
+    free: np.ndarray  # bool (rows, cols): the agent's centre may be here
+    obstacles: np.ndarray  # bool (rows, cols): a wall or object covers the cell centre
     origin: tuple[float, float]
     resolution: float
     agent_radius: float
@@ -36,8 +36,10 @@ class OccupancyGrid:
     def centers(self) -> tuple[np.ndarray, np.ndarray]:
         """World x (cols,) and y (rows,) of cell centres."""
         rows, cols = self.free.shape
-        return (self.origin[0] + (np.arange(cols) + 0.5) * self.resolution,
-                self.origin[1] + (np.arange(rows) + 0.5) * self.resolution)
+        return (
+            self.origin[0] + (np.arange(cols) + 0.5) * self.resolution,
+            self.origin[1] + (np.arange(rows) + 0.5) * self.resolution,
+        )
 
     def cell(self, x: float, y: float) -> tuple[int, int]:
         """(row, col) of the cell containing world point (x, y)."""
@@ -58,7 +60,7 @@ def _fill(mask: np.ndarray, box, origin, res) -> None:
     r0 = max(int(np.ceil((y0 - origin[1]) / res - 0.5)), 0)
     r1 = min(int(np.floor((y1 - origin[1]) / res - 0.5)), mask.shape[0] - 1)
     if c1 >= c0 and r1 >= r0:
-        mask[r0:r1 + 1, c0:c1 + 1] = True
+        mask[r0 : r1 + 1, c0 : c1 + 1] = True
 
 
 def obstacle_mask(spec: HouseSpec, resolution: float, agent_height: float = AGENT_HEIGHT):
@@ -75,8 +77,9 @@ def obstacle_mask(spec: HouseSpec, resolution: float, agent_height: float = AGEN
     return mask, origin
 
 
-def occupancy_grid(spec: HouseSpec, resolution: float = 0.05, agent_radius: float = AGENT_RADIUS,
-                   agent_height: float = AGENT_HEIGHT) -> OccupancyGrid:
+def occupancy_grid(
+    spec: HouseSpec, resolution: float = 0.05, agent_radius: float = AGENT_RADIUS, agent_height: float = AGENT_HEIGHT
+) -> OccupancyGrid:
     """The house's occupancy grid: free cells at least ``agent_radius`` (plus half a cell) from any obstacle."""
     mask, origin = obstacle_mask(spec, resolution, agent_height)
     # Border of the grid counts as obstacle too (nothing outside the footprint is reachable).

@@ -18,8 +18,13 @@ from objsearch.house.spec import HouseSpec
 PX = 60
 MARGIN = 20
 ROOM_COLORS = {  # BGR
-    "living_room": (170, 210, 240), "kitchen": (170, 235, 200), "dining_room": (150, 200, 235),
-    "bedroom": (235, 200, 190), "bathroom": (235, 225, 160), "office": (210, 180, 220), "hallway": (205, 205, 205),
+    "living_room": (170, 210, 240),
+    "kitchen": (170, 235, 200),
+    "dining_room": (150, 200, 235),
+    "bedroom": (235, 200, 190),
+    "bathroom": (235, 225, 160),
+    "office": (210, 180, 220),
+    "hallway": (205, 205, 205),
 }
 
 
@@ -57,8 +62,15 @@ def render_preview(spec: HouseSpec) -> np.ndarray:
             rect(fp, (0, 0, 0), 1)
             cx, cy = (fp[0] + fp[2]) / 2, (fp[1] + fp[3]) / 2
             fx, fy = o.front
-            half = (o.size[1] / 2)
-            cv2.line(img, pt(cx + fx * half * 0.5, cy + fy * half * 0.5), pt(cx + fx * half, cy + fy * half), (0, 0, 200), 2, cv2.LINE_AA)
+            half = o.size[1] / 2
+            cv2.line(
+                img,
+                pt(cx + fx * half * 0.5, cy + fy * half * 0.5),
+                pt(cx + fx * half, cy + fy * half),
+                (0, 0, 200),
+                2,
+                cv2.LINE_AA,
+            )
     for r in spec.rooms:
         x0, y0, x1, y1 = r.bounds
         label = r.type.replace("_", " ")
@@ -66,8 +78,16 @@ def render_preview(spec: HouseSpec) -> np.ndarray:
         px, py = pt((x0 + x1) / 2, (y0 + y1) / 2)
         cv2.rectangle(img, (px - tw // 2 - 3, py - th - 3), (px + tw // 2 + 3, py + 4), (255, 255, 255), -1)
         cv2.putText(img, label, (px - tw // 2, py), cv2.FONT_HERSHEY_SIMPLEX, 0.5, (20, 20, 20), 1, cv2.LINE_AA)
-    cv2.putText(img, f"{spec.house_id}  {width:g} x {depth:g} m  {len(spec.objects)} objects", (MARGIN, 14),
-                cv2.FONT_HERSHEY_SIMPLEX, 0.45, (0, 0, 0), 1, cv2.LINE_AA)
+    cv2.putText(
+        img,
+        f"{spec.house_id}  {width:g} x {depth:g} m  {len(spec.objects)} objects",
+        (MARGIN, 14),
+        cv2.FONT_HERSHEY_SIMPLEX,
+        0.45,
+        (0, 0, 0),
+        1,
+        cv2.LINE_AA,
+    )
     return img
 
 

@@ -192,6 +192,8 @@ class HouseSpec(JsonConfig):
     def upgrade(cls, data: dict) -> dict:
         """The legacy hook: only the current schema is read (older specs are regenerated)."""
         if data.get("schema_version") != SCHEMA_VERSION:
-            raise UserError(f"schema_version {data.get('schema_version')!r} is not {SCHEMA_VERSION}; "
-                            "regenerate the house with objsearch generate")
+            raise UserError(
+                f"schema_version {data.get('schema_version')!r} is not {SCHEMA_VERSION}; "
+                "regenerate the house with objsearch generate"
+            )
         return super().upgrade(data)

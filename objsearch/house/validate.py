@@ -65,8 +65,16 @@ def check_interpenetration(spec: HouseSpec) -> list[str]:
     t = spec.wall_thickness / 2
     for d in spec.doors:
         x0, y0, x1, y1 = d.span
-        walls.append((x0 - (t if d.axis == "y" else 0), y0 - (t if d.axis == "x" else 0), d.height,
-                      x1 + (t if d.axis == "y" else 0), y1 + (t if d.axis == "x" else 0), spec.wall_height))
+        walls.append(
+            (
+                x0 - (t if d.axis == "y" else 0),
+                y0 - (t if d.axis == "x" else 0),
+                d.height,
+                x1 + (t if d.axis == "y" else 0),
+                y1 + (t if d.axis == "x" else 0),
+                spec.wall_height,
+            )
+        )
     hit = _pair_overlaps(boxes, np.array(walls, dtype=float))
     for i in np.flatnonzero(hit.any(axis=1)):
         problems.append(f"{objs[i].name} intersects a wall")
@@ -150,8 +158,11 @@ def check_reachability(spec: HouseSpec, model: mujoco.MjModel | None, grid: Occu
             eye = np.array([xs[c0 + cc[k]], ys[r0 + rr[k]], EYE_HEIGHT])
             for tgt in targets:
                 vec = np.asarray(tgt) - eye
-                if mujoco.mj_ray(model, data, eye, vec, None, 1, exclude, geomid) >= 0 and geomid[0] >= 0 \
-                        and model.geom_bodyid[geomid[0]] == body:
+                if (
+                    mujoco.mj_ray(model, data, eye, vec, None, 1, exclude, geomid) >= 0
+                    and geomid[0] >= 0
+                    and model.geom_bodyid[geomid[0]] == body
+                ):
                     seen = True
                     break
             if seen:

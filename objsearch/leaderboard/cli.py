@@ -18,26 +18,42 @@ def add_parser(subparsers) -> None:
     """Add ``objsearch leaderboard`` (check, add, verify, render) to ``subparsers``."""
     from objsearch.leaderboard.validate import VERIFY_EPISODES
 
-    parser = subparsers.add_parser("leaderboard", help="validate, add, verify and render leaderboard submissions", description=__doc__)
-    parser.add_argument("--dir", default=DEFAULT_DIR, help=f"the leaderboard folder, holding submissions/ (default: ./{DEFAULT_DIR})")
+    parser = subparsers.add_parser(
+        "leaderboard", help="validate, add, verify and render leaderboard submissions", description=__doc__
+    )
+    parser.add_argument(
+        "--dir", default=DEFAULT_DIR, help=f"the leaderboard folder, holding submissions/ (default: ./{DEFAULT_DIR})"
+    )
     commands = parser.add_subparsers(dest="leaderboard_command", metavar="ACTION", required=True)
     check = commands.add_parser("check", help="validate submissions (default: every stored one)")
     check.add_argument("files", nargs="*", metavar="FILE")
-    check.add_argument("--partial", action="store_true", help="check FILEs as `add --partial` would: some splits or seeds")
+    check.add_argument(
+        "--partial", action="store_true", help="check FILEs as `add --partial` would: some splits or seeds"
+    )
     check.set_defaults(func=run_check)
     add = commands.add_parser("add", help="validate a results JSON, store it and regenerate the pages")
     add.add_argument("file", metavar="FILE")
     add.add_argument("--name", help="entry name (default: the agent's name; module:Class gives module.Class)")
     add.add_argument("--replace", action="store_true", help="replace a stored entry of the same name")
-    add.add_argument("--partial", action="store_true",
-                     help="store a result that covers only some splits or seeds (listed apart on the pages, never ranked)")
-    add.add_argument("--create", action="store_true", help="start a new leaderboard if --dir has no submissions/ folder")
+    add.add_argument(
+        "--partial",
+        action="store_true",
+        help="store a result that covers only some splits or seeds (listed apart on the pages, never ranked)",
+    )
+    add.add_argument(
+        "--create", action="store_true", help="start a new leaderboard if --dir has no submissions/ folder"
+    )
     add.set_defaults(func=run_add)
     verify = commands.add_parser("verify", help="replay a sample of stored entries' episodes; exit 2 unless identical")
     verify.add_argument("entries", nargs="*", metavar="ENTRY", help="a stored entry: its path or SUITE/NAME")
     verify.add_argument("--all", action="store_true", help="verify every stored entry")
-    verify.add_argument("--episodes", type=int, default=VERIFY_EPISODES, metavar="K",
-                        help=f"episodes replayed per entry, chosen by a hash of its content (default: {VERIFY_EPISODES})")
+    verify.add_argument(
+        "--episodes",
+        type=int,
+        default=VERIFY_EPISODES,
+        metavar="K",
+        help=f"episodes replayed per entry, chosen by a hash of its content (default: {VERIFY_EPISODES})",
+    )
     verify.set_defaults(func=run_verify)
     render = commands.add_parser("render", help="regenerate README.md and index.html from the stored submissions")
     render.set_defaults(func=run_render)
@@ -61,8 +77,10 @@ def _stored(root: str | Path) -> list[Path]:
 
     store = Path(root, SUBMISSIONS)
     if not store.is_dir():
-        raise UserError(f"{Path(root)} is not a leaderboard folder (it has no {SUBMISSIONS}/ folder); run from the "
-                        "repository root or pass --dir PATH/leaderboard (add --create starts a new leaderboard there)")
+        raise UserError(
+            f"{Path(root)} is not a leaderboard folder (it has no {SUBMISSIONS}/ folder); run from the "
+            "repository root or pass --dir PATH/leaderboard (add --create starts a new leaderboard there)"
+        )
     return sorted(store.glob("*/*.json"))
 
 
@@ -98,8 +116,10 @@ def run_add(args: argparse.Namespace) -> int:
     results = _validated(args.file, args.partial)
     name = args.name if args.name is not None else default_name(results["agent"])
     if not NAME.fullmatch(name):
-        raise UserError(f"entry name {name!r} must start with a letter or digit and hold only letters, digits, "
-                        "'_', '-' or '.'; pass another --name")
+        raise UserError(
+            f"entry name {name!r} must start with a letter or digit and hold only letters, digits, "
+            "'_', '-' or '.'; pass another --name"
+        )
     if not Path(args.dir, SUBMISSIONS).is_dir() and args.create:
         Path(args.dir, SUBMISSIONS).mkdir(parents=True)
     target = Path(args.dir, SUBMISSIONS, results["suite"], f"{name}.json")
@@ -126,8 +146,10 @@ def _entry_path(root: str | Path, entry: str) -> Path:
     named = Path(root, SUBMISSIONS, f"{entry}.json")
     if entry.count("/") == 1 and named.is_file():
         return named
-    raise UserError(f"no stored entry {entry!r}: neither a file nor SUITE/NAME of {named.parent.parent} "
-                    "(objsearch leaderboard check lists the stored entries)")
+    raise UserError(
+        f"no stored entry {entry!r}: neither a file nor SUITE/NAME of {named.parent.parent} "
+        "(objsearch leaderboard check lists the stored entries)"
+    )
 
 
 def run_verify(args: argparse.Namespace) -> int:

@@ -22,13 +22,24 @@ _GRIDWORLD = {
 
 # Our grid-world entries in the paper's Tables 1 (methods) and 2 (ablations), by submission name.
 PAPER_NAMES = {
-    "random": "Random", "oracle": "Oracle", "dqn": "DQN", "a3c": "A3C", "hdqn": "h-DQN", "hrl_grg": "HRL-GRG",
-    "hrl_grg_no_relation": "HRL-GRG -relation", "hrl_grg_no_termination": "HRL-GRG -termination",
+    "random": "Random",
+    "oracle": "Oracle",
+    "dqn": "DQN",
+    "a3c": "A3C",
+    "hdqn": "h-DQN",
+    "hrl_grg": "HRL-GRG",
+    "hrl_grg_no_relation": "HRL-GRG -relation",
+    "hrl_grg_no_termination": "HRL-GRG -termination",
     "hrl_grg_no_high_level": "HRL-GRG -high-level",
 }
 GRIDWORLD_TABLES = {
     "Table 1: methods": ("random", "oracle", "dqn", "hdqn", "hrl_grg"),
-    "Table 2: ablations of HRL-GRG": ("hrl_grg", "hrl_grg_no_relation", "hrl_grg_no_termination", "hrl_grg_no_high_level"),
+    "Table 2: ablations of HRL-GRG": (
+        "hrl_grg",
+        "hrl_grg_no_relation",
+        "hrl_grg_no_termination",
+        "hrl_grg_no_high_level",
+    ),
 }
 GREEDY_SUFFIX = "_greedy"
 """A submission ``<name>_greedy`` is ``<name>`` evaluated with epsilon 0 (shown under it)."""
@@ -71,8 +82,10 @@ def paper_rows(suite: str, split: str) -> list[dict]:
     if (suite, split) in HOUSE3D_SPLITS:
         i = HOUSE3D_SPLITS[(suite, split)]
         # the paper's House3D agents saw its DeepLabv3+'s predictions, not ground truth
-        return [{"name": name, "observation": "predicted", "sr": v[i][0], "as": None, "ms": None, "spl": v[i][1]}
-                for name, v in _HOUSE3D.items()]
+        return [
+            {"name": name, "observation": "predicted", "sr": v[i][0], "as": None, "ms": None, "spl": v[i][1]}
+            for name, v in _HOUSE3D.items()
+        ]
     if suite != "gridworld" or split not in GRIDWORLD_SPLITS:
         return []
     i = GRIDWORLD_SPLITS.index(split)

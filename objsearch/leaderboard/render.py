@@ -13,8 +13,18 @@ from importlib.resources import files
 from pathlib import Path
 
 from objsearch.fileio import atomic_write
-from objsearch.leaderboard.paper import (GREEDY_SUFFIX, GRIDWORLD_SPLITS, GRIDWORLD_TABLES, HOUSE3D_SPLITS, HOUSE3D_TABLE,
-                                        PAPER_NAMES, PREDICTED_SUFFIX, paper_gridworld, paper_house3d, paper_rows)
+from objsearch.leaderboard.paper import (
+    GREEDY_SUFFIX,
+    GRIDWORLD_SPLITS,
+    GRIDWORLD_TABLES,
+    HOUSE3D_SPLITS,
+    HOUSE3D_TABLE,
+    PAPER_NAMES,
+    PREDICTED_SUFFIX,
+    paper_gridworld,
+    paper_house3d,
+    paper_rows,
+)
 
 SUBMISSIONS = "submissions"
 
@@ -70,9 +80,11 @@ def _num(value) -> str:
 
 
 def _markdown_row(rank, r: dict) -> str:
-    return (f"| {rank} | {r['name']} | {r['observation']} | {_num(r['sr'])} | {_num(r['sr_ci'][0])}–{_num(r['sr_ci'][1])} | "
-            f"{_num(r['spl'])} | {_num(r['spl_ci'][0])}–{_num(r['spl_ci'][1])} | "
-            f"{_num(r['as'])} / {_num(r['ms'])} | {r['episodes']} | {r['seeds']} | {r['version']} | {r['commit']} |")
+    return (
+        f"| {rank} | {r['name']} | {r['observation']} | {_num(r['sr'])} | {_num(r['sr_ci'][0])}–{_num(r['sr_ci'][1])} | "
+        f"{_num(r['spl'])} | {_num(r['spl_ci'][0])}–{_num(r['spl_ci'][1])} | "
+        f"{_num(r['as'])} / {_num(r['ms'])} | {r['episodes']} | {r['seeds']} | {r['version']} | {r['commit']} |"
+    )
 
 
 _MARKDOWN_HEADER = [
@@ -105,9 +117,13 @@ def render_markdown(tables: dict, partial: dict | None = None) -> str:
                     f"*{_num(p['as'])} / {_num(p['ms'])}* | | | | |"
                 )
     if partial:
-        lines += ["", "## Partial submissions (not ranked)", "",
-                  "Entries added with `--partial`: they cover fewer splits or seeds than the suite's standard, so",
-                  "they are not comparable with the ranked rows above."]
+        lines += [
+            "",
+            "## Partial submissions (not ranked)",
+            "",
+            "Entries added with `--partial`: they cover fewer splits or seeds than the suite's standard, so",
+            "they are not comparable with the ranked rows above.",
+        ]
         for suite, splits in partial.items():
             for split, rows in splits.items():
                 lines += ["", f"### {suite} — {split} (partial)", "", *_MARKDOWN_HEADER]
@@ -129,12 +145,18 @@ def render_paper_tables(submissions: list[tuple[str, dict]]) -> str:
         "The paper's numbers (Ye et al., CVPR 2021) were measured on the authors' maps and tasks, not ours;",
         "its grid-world protocol and what we changed are in `docs/gridworld_agents.md`.",
     ]
-    header = "| Method | " + " | ".join(f"{split} SR | {split} SPL | {split} AS / MS" for split in GRIDWORLD_SPLITS) + " |"
+    header = (
+        "| Method | " + " | ".join(f"{split} SR | {split} SPL | {split} AS / MS" for split in GRIDWORLD_SPLITS) + " |"
+    )
 
     def cells(s: dict | None, paper: tuple | None) -> list[str]:
         ours = [None] * 3 if s is None else [_num(s["sr"]), _num(s["spl"]), f"{_num(s['as'])} / {_num(s['ms'])}"]
-        theirs = [None] * 3 if paper is None else [_num(paper[0]), _num(paper[3]), f"{_num(paper[1])} / {_num(paper[2])}"]
-        return [("not run" if o is None else f"**{o}**") + ("" if t is None else f" ({t})") for o, t in zip(ours, theirs)]
+        theirs = (
+            [None] * 3 if paper is None else [_num(paper[0]), _num(paper[3]), f"{_num(paper[1])} / {_num(paper[2])}"]
+        )
+        return [
+            ("not run" if o is None else f"**{o}**") + ("" if t is None else f" ({t})") for o, t in zip(ours, theirs)
+        ]
 
     for title, names in GRIDWORLD_TABLES.items():
         lines += ["", f"## {title}", "", header, "|---" * (1 + 3 * len(GRIDWORLD_SPLITS)) + "|"]
@@ -154,23 +176,33 @@ def _table3(submissions: list[tuple[str, dict]]) -> list[str]:
     ours = {(results["suite"], name): results for name, results in submissions}
     keys = list(HOUSE3D_SPLITS)
     lines = [
-        "", "## Table 3: House3D, beside our house-single and house-multi", "",
+        "",
+        "## Table 3: House3D, beside our house-single and house-multi",
+        "",
         "Each cell is **ours** (paper), SR / SPL. Ours: the shipped checkpoints (`agents/checkpoints/<suite>/`) on the",
         "suites' 100 episodes a split, seeds 1, 5, 13, 45, 99; *gt* rows saw ground-truth segmentation and depth,",
         "*predicted* rows the shipped perception network's predictions. The paper's agents saw its DeepLabv3+'s",
-        "predictions in House3D houses, not ours; protocol and deviations: `docs/house_agents.md`.", "",
+        "predictions in House3D houses, not ours; protocol and deviations: `docs/house_agents.md`.",
+        "",
         "| Method | observation | " + " | ".join(f"{suite} {split}" for suite, split in keys) + " |",
         "|---" * (2 + len(keys)) + "|",
     ]
     for name in HOUSE3D_TABLE:
         paper = paper_house3d(name)
-        modes = (("gt",) if name == "random" else ("gt", "predicted"))  # random ignores what it sees
+        modes = ("gt",) if name == "random" else ("gt", "predicted")  # random ignores what it sees
         for entry, seen in ((name + ("" if m == "gt" else PREDICTED_SUFFIX), m) for m in modes):
             row = []
             for suite, split in keys:
                 s = ours.get((suite, entry), {}).get("splits", {}).get(split)
                 mine = "not run" if s is None else f"**{_num(s['sr'])} / {_num(s['spl'])}**"
-                row.append(mine + (f" ({_num(paper[(suite, split)][0])} / {_num(paper[(suite, split)][1])})" if seen == "gt" else ""))
+                row.append(
+                    mine
+                    + (
+                        f" ({_num(paper[(suite, split)][0])} / {_num(paper[(suite, split)][1])})"
+                        if seen == "gt"
+                        else ""
+                    )
+                )
             lines.append(f"| {PAPER_NAMES[name]} | {seen} | " + " | ".join(row) + " |")
     return lines
 
@@ -183,10 +215,13 @@ def _house_gen(submissions: list[tuple[str, dict]]) -> list[str]:
         return []
     splits = list(next(iter(ours.values()))["splits"])
     lines = [
-        "", "## Beyond the paper: house-gen", "",
+        "",
+        "## Beyond the paper: house-gen",
+        "",
         "SR / SPL of Table 3's methods trained on house-gen's 40 training houses and evaluated on its 10",
         "validation and 10 test houses, generated as test houses (unseen object instances), seen and unseen",
-        "target categories; 100 episodes a split, seeds 1, 5, 13, 45, 99.", "",
+        "target categories; 100 episodes a split, seeds 1, 5, 13, 45, 99.",
+        "",
         "| Method | observation | " + " | ".join(splits) + " |",
         "|---" * (2 + len(splits)) + "|",
     ]
@@ -195,8 +230,10 @@ def _house_gen(submissions: list[tuple[str, dict]]) -> list[str]:
             if entry not in ours:
                 continue
             got = ours[entry]["splits"]
-            row = ["not run" if split not in got else f"**{_num(got[split]['sr'])} / {_num(got[split]['spl'])}**"
-                   for split in splits]
+            row = [
+                "not run" if split not in got else f"**{_num(got[split]['sr'])} / {_num(got[split]['spl'])}**"
+                for split in splits
+            ]
             lines.append(f"| {PAPER_NAMES[name]} | {seen} | " + " | ".join(row) + " |")
     return lines
 
@@ -227,8 +264,11 @@ def render(root: str | Path) -> list[Path]:
     tables = leaderboard_rows(submissions)
     full = [(name, results) for name, results in submissions if not results.get("partial")]
     written = []
-    pages = (("README.md", render_markdown(tables, leaderboard_rows(submissions, partial=True))),
-             ("index.html", render_html(tables)), ("paper_tables.md", render_paper_tables(full)))
+    pages = (
+        ("README.md", render_markdown(tables, leaderboard_rows(submissions, partial=True))),
+        ("index.html", render_html(tables)),
+        ("paper_tables.md", render_paper_tables(full)),
+    )
     for name, text in pages:
         with atomic_write(root / name) as f:
             f.write(text)

@@ -22,14 +22,24 @@ from collections import Counter
 from pathlib import Path
 
 from objsearch.errors import UserError
-from objsearch.eval.metrics import episode_spl, summarize
-from objsearch.eval.results import SCHEMA_VERSION
-from objsearch.eval.registry import make_agent
 from objsearch.eval.config import PAPER_SEEDS, EvalConfig
+from objsearch.eval.metrics import episode_spl, summarize
+from objsearch.eval.registry import make_agent
+from objsearch.eval.results import SCHEMA_VERSION
 from objsearch.eval.runner import run_units
 from objsearch.eval.suites import SUITES, make_suite
 
-REQUIRED = ("schema_version", "agent", "suite", "episode_set_version", "objsearch_version", "seeds", "config", "splits", "episodes")
+REQUIRED = (
+    "schema_version",
+    "agent",
+    "suite",
+    "episode_set_version",
+    "objsearch_version",
+    "seeds",
+    "config",
+    "splits",
+    "episodes",
+)
 TOLERANCE = 1e-4  # summaries are rounded to 4 decimals
 STANDARD_SEEDS = PAPER_SEEDS  # a full (ranked) submission runs every split with these seeds
 # the fields of a record that a replay must reproduce exactly (spl follows from them; no timing fields exist)
@@ -86,17 +96,42 @@ _BOOL = (lambda x: isinstance(x, bool), "true or false")
 _DICT = (lambda x: isinstance(x, dict), "an object")
 _OPT_NUMBER = (lambda x: x is None or _is_number(x), "a number or null")
 # field: (test, what it must be, required)
-TOP_FIELDS = {"schema_version": (*_INT, True), "agent": (*_STR, True), "suite": (*_STR, True),
-              "episode_set_version": (*_STR, True), "objsearch_version": (*_STR, True), "git_commit": (*_OPT_STR, False),
-              "seeds": (*_SEEDS, True), "config": (*_DICT, True), "splits": (*_DICT, True),
-              "episodes": ((lambda x: isinstance(x, list)), "a list", True), "partial": (*_BOOL, False)}
-CONFIG_FIELDS = {"agent": (*_STR, True), "suite": (*_STR, True), "splits": (*_STRS, True), "seeds": (*_SEEDS, True),
-                 "checkpoint": (*_OPT_STR, False), "suite_config": (*_DICT, False), "step_time_limit": (*_OPT_NUMBER, False),
-                 "weights_sha256": (*_OPT_STR, False)}
-RECORD_FIELDS = {"split": (*_STR, True), "seed": (*_INT, True), "episode_id": (*_INT, True), "goal": (*_STR, True),
-                 "success": (*_BOOL, True), "steps": (*_INT, True), "min_steps": (*_INT, True), "spl": (*_OPT_NUMBER, False),
-                 "task": (*_DICT, True), "error": (*_STR, False),
-                 "traceback": (*_STR, False)}
+TOP_FIELDS = {
+    "schema_version": (*_INT, True),
+    "agent": (*_STR, True),
+    "suite": (*_STR, True),
+    "episode_set_version": (*_STR, True),
+    "objsearch_version": (*_STR, True),
+    "git_commit": (*_OPT_STR, False),
+    "seeds": (*_SEEDS, True),
+    "config": (*_DICT, True),
+    "splits": (*_DICT, True),
+    "episodes": ((lambda x: isinstance(x, list)), "a list", True),
+    "partial": (*_BOOL, False),
+}
+CONFIG_FIELDS = {
+    "agent": (*_STR, True),
+    "suite": (*_STR, True),
+    "splits": (*_STRS, True),
+    "seeds": (*_SEEDS, True),
+    "checkpoint": (*_OPT_STR, False),
+    "suite_config": (*_DICT, False),
+    "step_time_limit": (*_OPT_NUMBER, False),
+    "weights_sha256": (*_OPT_STR, False),
+}
+RECORD_FIELDS = {
+    "split": (*_STR, True),
+    "seed": (*_INT, True),
+    "episode_id": (*_INT, True),
+    "goal": (*_STR, True),
+    "success": (*_BOOL, True),
+    "steps": (*_INT, True),
+    "min_steps": (*_INT, True),
+    "spl": (*_OPT_NUMBER, False),
+    "task": (*_DICT, True),
+    "error": (*_STR, False),
+    "traceback": (*_STR, False),
+}
 
 
 def _short(value, limit: int = 60) -> str:
@@ -121,11 +156,17 @@ def type_problems(results: dict) -> list[str]:
     if not problems:
         problems = _field_problems(results["config"], CONFIG_FIELDS, "config")
     if not problems:
-        problems = [f"summary of split {split!r} is {_short(s)}, not an object" for split, s in results["splits"].items()
-                    if not isinstance(s, dict)]
+        problems = [
+            f"summary of split {split!r} is {_short(s)}, not an object"
+            for split, s in results["splits"].items()
+            if not isinstance(s, dict)
+        ]
     for i, record in enumerate([] if problems else results["episodes"]):
-        problems += (_field_problems(record, RECORD_FIELDS, f"episodes[{i}]") if isinstance(record, dict)
-                     else [f"episodes[{i}] is {_short(record)}, not an object"])
+        problems += (
+            _field_problems(record, RECORD_FIELDS, f"episodes[{i}]")
+            if isinstance(record, dict)
+            else [f"episodes[{i}] is {_short(record)}, not an object"]
+        )
         if len(problems) >= 3:
             break
     return problems[:3]
@@ -153,7 +194,9 @@ def check_submission(results: dict) -> list[str]:
         return [f"unknown suite {suite_name!r}"]
     config = results["config"]
     if (config["agent"], config["suite"]) != (results["agent"], suite_name):
-        return [f"agent {results['agent']!r} on {suite_name!r} is not the config's {config['agent']!r} on {config['suite']!r}"]
+        return [
+            f"agent {results['agent']!r} on {suite_name!r} is not the config's {config['agent']!r} on {config['suite']!r}"
+        ]
     try:
         suite, episodes = _suite(suite_name, json.dumps(config.get("suite_config", {}), sort_keys=True))
     except (UserError, TypeError, ValueError) as err:
@@ -174,10 +217,14 @@ def check_submission(results: dict) -> list[str]:
     if sorted(results["splits"]) != sorted(splits):
         return [f"summary splits {sorted(results['splits'])} differ from the config's {sorted(splits)}"]
     full = sorted(splits) == sorted(suite.splits) and sorted(seeds) == sorted(STANDARD_SEEDS)
-    standard = f"every split of {suite_name} ({', '.join(suite.splits)}) with seeds {','.join(map(str, STANDARD_SEEDS))}"
+    standard = (
+        f"every split of {suite_name} ({', '.join(suite.splits)}) with seeds {','.join(map(str, STANDARD_SEEDS))}"
+    )
     if not full and not results.get("partial", False):
-        return [f"covers splits {', '.join(splits)} with seeds {','.join(map(str, seeds))}, not {standard}; "
-                "evaluate with objsearch-eval's default splits and seeds, or add it with --partial (shown apart, not ranked)"]
+        return [
+            f"covers splits {', '.join(splits)} with seeds {','.join(map(str, seeds))}, not {standard}; "
+            "evaluate with objsearch-eval's default splits and seeds, or add it with --partial (shown apart, not ranked)"
+        ]
     if full and results.get("partial", False):
         return [f"is marked partial but covers {standard}; add it without --partial"]
 
@@ -195,8 +242,10 @@ def check_submission(results: dict) -> list[str]:
     failed = [r for r in results["episodes"] if r.get("error")]
     if failed:
         first = failed[0]
-        return [f"{len(failed)} episode(s) ended in an agent error, e.g. {first['split']}/seed {first['seed']}/"
-                f"{first['episode_id']}: {first['error']}; a run that did not run is not a result"]
+        return [
+            f"{len(failed)} episode(s) ended in an agent error, e.g. {first['split']}/seed {first['seed']}/"
+            f"{first['episode_id']}: {first['error']}; a run that did not run is not a result"
+        ]
     for r in results["episodes"]:
         ep = episodes[r["split"]][r["episode_id"]]
         where = f"episode {r['split']}/seed {r['seed']}/{r['episode_id']}"
@@ -214,7 +263,9 @@ def check_submission(results: dict) -> list[str]:
         recomputed = summarize([r for r in results["episodes"] if r["split"] == split])
         if _differs(results["splits"][split], recomputed):
             fields = [k for k in recomputed if _differs(results["splits"][split].get(k), recomputed[k])]
-            problems.append(f"split {split}: summary ({', '.join(fields)}) differs from the one recomputed from its episodes")
+            problems.append(
+                f"split {split}: summary ({', '.join(fields)}) differs from the one recomputed from its episodes"
+            )
     return problems
 
 
@@ -234,21 +285,32 @@ def verify_submission(results: dict, k: int = VERIFY_EPISODES) -> list[str]:
     if problems:
         return problems
     c = results["config"]
-    config = EvalConfig(agent=results["agent"], suite=results["suite"], splits=tuple(c["splits"]), seeds=tuple(results["seeds"]),
-                        checkpoint=c.get("checkpoint"), suite_config=c.get("suite_config", {}), step_time_limit=None)
+    config = EvalConfig(
+        agent=results["agent"],
+        suite=results["suite"],
+        splits=tuple(c["splits"]),
+        seeds=tuple(results["seeds"]),
+        checkpoint=c.get("checkpoint"),
+        suite_config=c.get("suite_config", {}),
+        step_time_limit=None,
+    )
     claimed = c.get("weights_sha256")
     if claimed is not None:  # the weights the submission names must be the ones that load now
         loaded = getattr(make_agent(config.agent, config.checkpoint, config.suite), "weights_sha256", None)
         if loaded != claimed:
-            return [f"the submission used weights {claimed[:12]}, but agent {results['agent']!r} loads {str(loaded)[:12]} "
-                    f"(checkpoint {config.checkpoint or 'shipped'}); replay it with the weights it names"]
+            return [
+                f"the submission used weights {claimed[:12]}, but agent {results['agent']!r} loads {str(loaded)[:12]} "
+                f"(checkpoint {config.checkpoint or 'shipped'}); replay it with the weights it names"
+            ]
     stored = {(r["split"], r["seed"], r["episode_id"]): r for r in results["episodes"]}
     units = replay_sample(results, k)
     for replayed in run_units(config, units, progress=False):
         unit = (replayed["split"], replayed["seed"], replayed["episode_id"])
         for key in REPLAYED:
             if stored[unit].get(key) != replayed.get(key):
-                problems.append(f"episode {unit[0]}/seed {unit[1]}/{unit[2]}: {key} is {stored[unit].get(key)!r} in the "
-                                f"submission but {replayed.get(key)!r} when replayed with agent {results['agent']!r}")
+                problems.append(
+                    f"episode {unit[0]}/seed {unit[1]}/{unit[2]}: {key} is {stored[unit].get(key)!r} in the "
+                    f"submission but {replayed.get(key)!r} when replayed with agent {results['agent']!r}"
+                )
                 break
     return problems[:3] + ([f"{len(problems)} of {len(units)} replayed episodes differ"] if len(problems) > 3 else [])

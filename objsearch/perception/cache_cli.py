@@ -26,13 +26,20 @@ def add_parser(subparsers) -> None:
     parser = subparsers.add_parser("cache", help="pre-rendered observation caches of house suites", description=__doc__)
     commands = parser.add_subparsers(dest="cache_command", metavar="ACTION", required=True)
     build = commands.add_parser("build", help="render every pose of every house of a suite into the cache")
-    build.add_argument("--suite", required=True,
-                       help=f"{', '.join(SUITE_NAMES)}, or a suite file (.json) made by objsearch suite make")
+    build.add_argument(
+        "--suite", required=True, help=f"{', '.join(SUITE_NAMES)}, or a suite file (.json) made by objsearch suite make"
+    )
     build.add_argument("--cache-dir", help="cache folder (default: $OBJSEARCH_CACHE or ~/.cache/objsearch)")
     build.add_argument("--training", action="store_true", help="also the suite's training houses (house-gen)")
-    build.add_argument("--observation", choices=("gt", "predicted"), default="gt",
-                       help="predicted: also fill the perception network's predictions (default: gt only)")
-    build.add_argument("--perception", metavar="CHECKPOINT", help="the network for --observation predicted (default: the shipped one)")
+    build.add_argument(
+        "--observation",
+        choices=("gt", "predicted"),
+        default="gt",
+        help="predicted: also fill the perception network's predictions (default: gt only)",
+    )
+    build.add_argument(
+        "--perception", metavar="CHECKPOINT", help="the network for --observation predicted (default: the shipped one)"
+    )
     add_executor_arguments(build, "--cache-dir")
     build.set_defaults(func=run_build)
     cache_dir_help = "cache folder (default: $OBJSEARCH_CACHE or ~/.cache/objsearch)"
@@ -95,8 +102,10 @@ def run_verify(args: argparse.Namespace) -> int:
     for c in folders:
         print(f"{c['path'].name}: {'ok' if c['problem'] is None else c['problem']}")
     if damaged:
-        raise UserError(f"{len(damaged)} of {len(folders)} caches in {root} are not current or damaged; "
-                        "objsearch cache build rebuilds them, objsearch cache clear removes them")
+        raise UserError(
+            f"{len(damaged)} of {len(folders)} caches in {root} are not current or damaged; "
+            "objsearch cache build rebuilds them, objsearch cache clear removes them"
+        )
     print(f"{len(folders)} caches in {root}: all intact")
     return 0
 
@@ -125,8 +134,10 @@ def run_clear(args: argparse.Namespace) -> int:
         freed += folder_bytes(tmp)
         shutil.rmtree(tmp, ignore_errors=True)
     kept = [c for c in folders if c not in doomed]
-    print(f"removed {len(doomed)} caches, {format_size(freed)} freed; kept {len(kept)} current caches "
-          f"({format_size(sum(c['bytes'] for c in kept))}) in {root}" + ("" if not kept else "; --all removes them too"))
+    print(
+        f"removed {len(doomed)} caches, {format_size(freed)} freed; kept {len(kept)} current caches "
+        f"({format_size(sum(c['bytes'] for c in kept))}) in {root}" + ("" if not kept else "; --all removes them too")
+    )
     return 0
 
 
@@ -153,16 +164,32 @@ def run_build(args: argparse.Namespace) -> int:
     houses = dict(suite["houses"])
     if args.training:
         houses.update(suite["training_houses"])
-    lines = build_caches(houses, args.cache_dir, perception=checkpoint, executor=args.executor, address=args.address,
-                         workers=args.workers, desc=f"houses of {args.suite}")
+    lines = build_caches(
+        houses,
+        args.cache_dir,
+        perception=checkpoint,
+        executor=args.executor,
+        address=args.address,
+        workers=args.workers,
+        desc=f"houses of {args.suite}",
+    )
     for line in lines:
         print(line)
     return 0
 
 
-def build_caches(houses: dict[str, dict], cache_dir=None, settings=None, perception=None, *, executor: str = "local",
-                 address: str | None = None, workers: int | None = None, desc: str = "houses",
-                 progress: bool = True) -> list[str]:
+def build_caches(
+    houses: dict[str, dict],
+    cache_dir=None,
+    settings=None,
+    perception=None,
+    *,
+    executor: str = "local",
+    address: str | None = None,
+    workers: int | None = None,
+    desc: str = "houses",
+    progress: bool = True,
+) -> list[str]:
     """Build the observation cache (``settings``, default: the agent camera) of every house
     (house id -> ``HouseRef`` fields) and, with ``perception`` (a checkpoint path), the
     network's predictions; one task per house (``objsearch.cluster.map_houses``). Returns

@@ -15,20 +15,32 @@ from objsearch.cluster import add_executor_arguments, check_executor_arguments
 
 def add_parser(subparsers) -> None:
     """Add ``objsearch perception`` (dataset, train, eval) to ``subparsers``."""
-    parser = subparsers.add_parser("perception", help="segmentation + depth network: dataset, train, eval",
-                                   description=__doc__)
+    parser = subparsers.add_parser(
+        "perception", help="segmentation + depth network: dataset, train, eval", description=__doc__
+    )
     commands = parser.add_subparsers(dest="perception_command", metavar="ACTION", required=True)
 
     data = commands.add_parser("dataset", help="render training / validation / test frames of house-gen's houses")
     data.add_argument("--out", required=True, help="dataset folder (an interrupted build there resumes)")
     data.add_argument("--seed", type=non_negative_int, default=0, help="pose sampling seed (default: 0)")
-    data.add_argument("--poses-per-house", type=non_negative_int, default=200, help="frames per training house (default: 200)")
-    data.add_argument("--eval-poses-per-house", type=non_negative_int, default=200, help="frames per val / test house (default: 200)")
-    data.add_argument("--train-houses", type=non_negative_int,
-                      help="training houses: house-gen's 40, then generated ones (default: 200)")
+    data.add_argument(
+        "--poses-per-house", type=non_negative_int, default=200, help="frames per training house (default: 200)"
+    )
+    data.add_argument(
+        "--eval-poses-per-house", type=non_negative_int, default=200, help="frames per val / test house (default: 200)"
+    )
+    data.add_argument(
+        "--train-houses",
+        type=non_negative_int,
+        help="training houses: house-gen's 40, then generated ones (default: 200)",
+    )
     for split in ("val", "test"):
-        data.add_argument(f"--{split}-houses", type=non_negative_int, help=f"use only the first N of the 10 {split} houses")
-    data.add_argument("--size", type=non_negative_int, help="render width and height in pixels (default: 64, the agent camera's)")
+        data.add_argument(
+            f"--{split}-houses", type=non_negative_int, help=f"use only the first N of the 10 {split} houses"
+        )
+    data.add_argument(
+        "--size", type=non_negative_int, help="render width and height in pixels (default: 64, the agent camera's)"
+    )
     data.add_argument("--quiet", action="store_true", help="no progress bar")
     add_executor_arguments(data, "--out")
     data.set_defaults(func=run_dataset)
@@ -41,14 +53,23 @@ def add_parser(subparsers) -> None:
     train.add_argument("--seed", type=non_negative_int, help="run seed (default: 0)")
     train.add_argument("--device", help="auto (default: CUDA when present), cpu or cuda")
     train.add_argument("--threads", type=non_negative_int, help="torch CPU threads (default: all cores)")
-    train.add_argument("--set", action="append", type=key_value, default=[], dest="overrides", metavar="KEY=VALUE",
-                       help="override a TrainConfig field (model.FIELD for widths); repeatable")
+    train.add_argument(
+        "--set",
+        action="append",
+        type=key_value,
+        default=[],
+        dest="overrides",
+        metavar="KEY=VALUE",
+        help="override a TrainConfig field (model.FIELD for widths); repeatable",
+    )
     train.add_argument("--fresh", action="store_true", help="start over even if --out holds a run")
     train.add_argument("--quiet", action="store_true", help="no progress bar")
     train.set_defaults(func=run_train)
 
     ev = commands.add_parser("eval", help="evaluate a checkpoint on held-out houses (default: the test split)")
-    ev.add_argument("--checkpoint", help="RUN/model.pt written by objsearch perception train (default: the shipped one)")
+    ev.add_argument(
+        "--checkpoint", help="RUN/model.pt written by objsearch perception train (default: the shipped one)"
+    )
     ev.add_argument("--data", required=True, help="dataset folder")
     ev.add_argument("--split", default="test", help="test (default: unseen houses and object instances), val or train")
     ev.add_argument("--max-frames", type=non_negative_int, help="evaluate only the first N frames")
@@ -66,10 +87,21 @@ def run_dataset(args: argparse.Namespace) -> int:
 
     check_executor_arguments(args)
     settings = AGENT_CAMERA if args.size is None else replace(AGENT_CAMERA, width=args.size, height=args.size)
-    limits = {s: getattr(args, f"{s}_houses") for s in ("train", "val", "test") if getattr(args, f"{s}_houses") is not None}
-    manifest = build_dataset(args.out, settings=settings, seed=args.seed, poses_per_house=args.poses_per_house,
-                             eval_poses_per_house=args.eval_poses_per_house, houses=limits, progress=not args.quiet,
-                             executor=args.executor, address=args.address, workers=args.workers)
+    limits = {
+        s: getattr(args, f"{s}_houses") for s in ("train", "val", "test") if getattr(args, f"{s}_houses") is not None
+    }
+    manifest = build_dataset(
+        args.out,
+        settings=settings,
+        seed=args.seed,
+        poses_per_house=args.poses_per_house,
+        eval_poses_per_house=args.eval_poses_per_house,
+        houses=limits,
+        progress=not args.quiet,
+        executor=args.executor,
+        address=args.address,
+        workers=args.workers,
+    )
     for split, entry in manifest["splits"].items():
         print(f"{split}: {entry['frames']} frames from {len(entry['houses'])} houses")
     print(f"wrote {args.out}/manifest.json")
@@ -82,8 +114,13 @@ def run_train(args: argparse.Namespace) -> int:
     from objsearch.perception.train import train
 
     overrides = dict(args.overrides)
-    for name, key in (("steps", "steps"), ("batch_size", "batch_size"), ("seed", "seed"), ("device", "device"),
-                      ("threads", "threads")):
+    for name, key in (
+        ("steps", "steps"),
+        ("batch_size", "batch_size"),
+        ("seed", "seed"),
+        ("device", "device"),
+        ("threads", "threads"),
+    ):
         if getattr(args, name) is not None:
             overrides[key] = str(getattr(args, name))
     config = TrainConfig(data=args.data).with_overrides(overrides)
@@ -115,27 +152,44 @@ def run_eval(args: argparse.Namespace) -> int:
     manifest = read_manifest(args.data)
     predictor = Predictor.from_checkpoint(args.checkpoint, device=args.device)
     dataset_camera = RenderSettings.from_json(manifest["settings"], source=f"{args.data}/manifest.json")
-    check_camera(predictor.settings, dataset_camera,
-                 source=f"perception checkpoint {predictor.checkpoint}", expected_name=f"the camera of dataset {args.data}",
-                 fix="pass a --data rendered with the checkpoint's camera (objsearch perception dataset --size), "
-                     "or the --checkpoint trained on this dataset")
+    check_camera(
+        predictor.settings,
+        dataset_camera,
+        source=f"perception checkpoint {predictor.checkpoint}",
+        expected_name=f"the camera of dataset {args.data}",
+        fix="pass a --data rendered with the checkpoint's camera (objsearch perception dataset --size), "
+        "or the --checkpoint trained on this dataset",
+    )
     frames = load_split(args.data, args.split, args.max_frames)
     result = evaluate(predictor, frames, progress=not args.json)
     targets = target_categories()
     result["miou_targets"] = miou_over(result, targets)
-    print(f"{args.split}: {len(frames)} frames from {len(set(frames.houses.tolist()))} houses, checkpoint {predictor.key}")
+    print(
+        f"{args.split}: {len(frames)} frames from {len(set(frames.houses.tolist()))} houses, checkpoint {predictor.key}"
+    )
     print(format_table(result))
-    print(f"mIoU over the {sum(c in result['iou'] for c in targets)} target categories of the house suites present: "
-          f"{result['miou_targets']:.3f}")
+    print(
+        f"mIoU over the {sum(c in result['iou'] for c in targets)} target categories of the house suites present: "
+        f"{result['miou_targets']:.3f}"
+    )
     if args.json:
         from objsearch.house.categories import CATEGORY_NAMES
 
-        summary = {k: (None if isinstance(v, float) and math.isnan(v) else v) for k, v in result.items()
-                   if k not in ("iou", "gt_pixels", "counted", "confused_with")}
-        summary.update(split=args.split, frames=len(frames), checkpoint_key=predictor.key,
-                       counted=[CATEGORY_NAMES[c] for c in result["counted"]],
-                       per_category={CATEGORY_NAMES[c]: round(v, 4) for c, v in result["iou"].items()},
-                       confused_with={CATEGORY_NAMES[c]: [CATEGORY_NAMES.get(o, "?"), round(share, 4)]
-                                      for c, (o, share) in result["confused_with"].items()})
+        summary = {
+            k: (None if isinstance(v, float) and math.isnan(v) else v)
+            for k, v in result.items()
+            if k not in ("iou", "gt_pixels", "counted", "confused_with")
+        }
+        summary.update(
+            split=args.split,
+            frames=len(frames),
+            checkpoint_key=predictor.key,
+            counted=[CATEGORY_NAMES[c] for c in result["counted"]],
+            per_category={CATEGORY_NAMES[c]: round(v, 4) for c, v in result["iou"].items()},
+            confused_with={
+                CATEGORY_NAMES[c]: [CATEGORY_NAMES.get(o, "?"), round(share, 4)]
+                for c, (o, share) in result["confused_with"].items()
+            },
+        )
         print(json.dumps(summary, sort_keys=True))
     return 0

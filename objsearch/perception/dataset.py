@@ -126,8 +126,14 @@ def decode_depth(depth_mm: np.ndarray) -> np.ndarray:
 def write_shard(path: Path, rgb, depth, semantic, pose_ids, meta: dict) -> None:
     """One house's frames as a compressed ``.npz``, written atomically."""
     buffer = io.BytesIO()
-    np.savez_compressed(buffer, rgb=rgb, depth_mm=encode_depth(depth), semantic=semantic,
-                        pose_ids=np.asarray(pose_ids, np.int32), meta=np.array(json.dumps(meta, sort_keys=True)))
+    np.savez_compressed(
+        buffer,
+        rgb=rgb,
+        depth_mm=encode_depth(depth),
+        semantic=semantic,
+        pose_ids=np.asarray(pose_ids, np.int32),
+        meta=np.array(json.dumps(meta, sort_keys=True)),
+    )
     with atomic_write(path, "wb") as f:
         f.write(buffer.getvalue())
 
@@ -140,14 +146,25 @@ def read_shard(path: Path) -> dict:
             out["depth"] = decode_depth(data["depth_mm"])
             out["meta"] = json.loads(str(data["meta"]))
     except (OSError, ValueError, KeyError) as err:
-        raise UserError(f"cannot read dataset shard {path}: {err}; delete it and rerun objsearch perception dataset") from None
+        raise UserError(
+            f"cannot read dataset shard {path}: {err}; delete it and rerun objsearch perception dataset"
+        ) from None
     return out
 
 
-def build_dataset(out: str | Path, *, settings=None, seed: int = 0, poses_per_house: int = 200,
-                  eval_poses_per_house: int = 200, houses: dict[str, int] | None = None,
-                  progress: bool = True, executor: str = "local", address: str | None = None,
-                  workers: int | None = None) -> dict:
+def build_dataset(
+    out: str | Path,
+    *,
+    settings=None,
+    seed: int = 0,
+    poses_per_house: int = 200,
+    eval_poses_per_house: int = 200,
+    houses: dict[str, int] | None = None,
+    progress: bool = True,
+    executor: str = "local",
+    address: str | None = None,
+    workers: int | None = None,
+) -> dict:
     """Render the dataset into ``out`` (resuming: shards already there with the same meta are kept).
 
     Args:
@@ -180,9 +197,17 @@ def build_dataset(out: str | Path, *, settings=None, seed: int = 0, poses_per_ho
         plan += [(split, house_id, info, count) for house_id, info in split_houses(split, houses[split]).items()]
     task = partial(render_shard, out=out.resolve(), settings=settings, seed=seed)
     shards = map_houses(task, plan, executor, address, workers, desc=f"render {out.name}", progress=progress)
-    manifest = {"version": DATASET_VERSION, "suite": SUITE, "suite_version": load_suite_file(SUITE)["version"],
-                "categories": CATEGORY_TABLE_VERSION, "num_classes": NUM_CLASSES, "settings": settings.to_json(),
-                "settings_key": settings.key(), "seed": seed, "splits": {}}
+    manifest = {
+        "version": DATASET_VERSION,
+        "suite": SUITE,
+        "suite_version": load_suite_file(SUITE)["version"],
+        "categories": CATEGORY_TABLE_VERSION,
+        "num_classes": NUM_CLASSES,
+        "settings": settings.to_json(),
+        "settings_key": settings.key(),
+        "seed": seed,
+        "splits": {},
+    }
     for (split, house_id, info, _), shard in zip(plan, shards):
         entry = manifest["splits"].setdefault(split, {"houses": {}, "frames": 0, "class_pixels": [0] * NUM_CLASSES})
         entry["houses"][house_id] = {**info, "frames": shard["frames"], "shard": f"{split}/{house_id}.npz"}
@@ -201,8 +226,14 @@ def render_shard(item: tuple[str, str, dict, int], out: Path, settings, seed: in
 
     split, house_id, info, count = item
     path = out / split / f"{house_id}.npz"
-    meta = {"version": DATASET_VERSION, "house": house_id, "spec_sha256": info["spec_sha256"],
-            "settings_key": settings.key(), "seed": seed, "requested": count}
+    meta = {
+        "version": DATASET_VERSION,
+        "house": house_id,
+        "spec_sha256": info["spec_sha256"],
+        "settings_key": settings.key(),
+        "seed": seed,
+        "requested": count,
+    }
     shard = read_shard(path) if path.exists() else None
     if shard is None or shard["meta"] != meta:
         world = World.load(HouseRef(**info))
@@ -223,9 +254,13 @@ def read_manifest(data_dir: str | Path) -> dict:
     try:
         manifest = json.loads(path.read_text())
     except (OSError, ValueError) as err:
-        raise UserError(f"cannot read {path} ({err}); build the dataset with objsearch perception dataset --out {data_dir}") from None
+        raise UserError(
+            f"cannot read {path} ({err}); build the dataset with objsearch perception dataset --out {data_dir}"
+        ) from None
     if manifest.get("version") != DATASET_VERSION:
-        raise UserError(f"{path} is version {manifest.get('version')!r}, expected {DATASET_VERSION!r}; rebuild the dataset")
+        raise UserError(
+            f"{path} is version {manifest.get('version')!r}, expected {DATASET_VERSION!r}; rebuild the dataset"
+        )
     return manifest
 
 

@@ -24,7 +24,14 @@ from objsearch import torchfile
 from objsearch.errors import UserError
 from objsearch.house.categories import CATEGORY_TABLE_VERSION
 from objsearch.perception.metrics import Evaluation
-from objsearch.perception.model import MODEL_VERSION, ModelConfig, SegDepthNet, depth_from_log, pick_device, rgb_to_tensor
+from objsearch.perception.model import (
+    MODEL_VERSION,
+    ModelConfig,
+    SegDepthNet,
+    depth_from_log,
+    pick_device,
+    rgb_to_tensor,
+)
 from objsearch.sim.camera import AGENT_CAMERA, AGENT_CAMERA_NAME, PERCEPTION_FIX, RenderSettings, check_camera
 
 BATCH = 64
@@ -37,22 +44,30 @@ def resolve_checkpoint(path: str | Path | None = None) -> Path:
     if path is not None:
         return Path(path)
     if not SHIPPED_CHECKPOINT.is_file():
-        raise UserError(f"no shipped perception checkpoint at {SHIPPED_CHECKPOINT}; pass one (objsearch perception train writes RUN/model.pt)")
+        raise UserError(
+            f"no shipped perception checkpoint at {SHIPPED_CHECKPOINT}; pass one (objsearch perception train writes RUN/model.pt)"
+        )
     return SHIPPED_CHECKPOINT
 
 
 def _require_settings(settings) -> RenderSettings:
     if not isinstance(settings, RenderSettings):
-        raise TypeError(f"settings must be a RenderSettings (objsearch.sim.camera), not {type(settings).__name__}; "
-                        "RenderSettings.from_json(d) reads a dict")
+        raise TypeError(
+            f"settings must be a RenderSettings (objsearch.sim.camera), not {type(settings).__name__}; "
+            "RenderSettings.from_json(d) reads a dict"
+        )
     return settings
 
 
 def save_checkpoint(path: str | Path, model: SegDepthNet, settings: RenderSettings) -> None:
     """Write the evaluable network atomically (weights on the CPU); ``settings``: the camera of its training frames."""
-    state = {"version": MODEL_VERSION, "model_config": model.config.to_json(), "settings": _require_settings(settings).to_json(),
-             "categories": CATEGORY_TABLE_VERSION,
-             "state_dict": {k: v.detach().cpu() for k, v in model.state_dict().items()}}
+    state = {
+        "version": MODEL_VERSION,
+        "model_config": model.config.to_json(),
+        "settings": _require_settings(settings).to_json(),
+        "categories": CATEGORY_TABLE_VERSION,
+        "state_dict": {k: v.detach().cpu() for k, v in model.state_dict().items()},
+    }
     torchfile.save(path, state)
 
 
@@ -62,7 +77,9 @@ def load_checkpoint(path: str | Path) -> dict:
     if not isinstance(state, dict) or state.get("version") != MODEL_VERSION:
         raise UserError(f"{path} is not a {MODEL_VERSION} checkpoint (objsearch perception train writes RUN/model.pt)")
     if state.get("categories") != CATEGORY_TABLE_VERSION:
-        raise UserError(f"{path} was trained on category table {state.get('categories')}, this is {CATEGORY_TABLE_VERSION}; retrain")
+        raise UserError(
+            f"{path} was trained on category table {state.get('categories')}, this is {CATEGORY_TABLE_VERSION}; retrain"
+        )
     return state
 
 
@@ -79,11 +96,14 @@ def checkpoint_settings(state: dict, path: str | Path) -> RenderSettings:
             raise ValueError(f"missing camera fields {', '.join(missing)}")
         return RenderSettings.from_json(settings, source=f"the settings of checkpoint {path}")
     except (UserError, TypeError, ValueError) as err:
-        raise UserError(f"{path} records no readable camera settings ({err}); retrain it with objsearch perception train") from None
+        raise UserError(
+            f"{path} records no readable camera settings ({err}); retrain it with objsearch perception train"
+        ) from None
 
 
-def check_checkpoint_camera(path: str | Path | None = None, expected: RenderSettings = AGENT_CAMERA,
-                            expected_name: str = AGENT_CAMERA_NAME) -> RenderSettings:
+def check_checkpoint_camera(
+    path: str | Path | None = None, expected: RenderSettings = AGENT_CAMERA, expected_name: str = AGENT_CAMERA_NAME
+) -> RenderSettings:
     """Load the checkpoint ``path`` (default: the shipped one) and check that it was trained
     on frames of ``expected`` (``objsearch.sim.camera.check_camera``), without building the
     network: what a command runs before it renders anything.
@@ -94,14 +114,18 @@ def check_checkpoint_camera(path: str | Path | None = None, expected: RenderSett
     """
     path = resolve_checkpoint(path)
     settings = checkpoint_settings(load_checkpoint(path), path)
-    return check_camera(settings, expected, source=f"perception checkpoint {path}", expected_name=expected_name,
-                        fix=PERCEPTION_FIX)
+    return check_camera(
+        settings, expected, source=f"perception checkpoint {path}", expected_name=expected_name, fix=PERCEPTION_FIX
+    )
 
 
 def checkpoint_key(state: dict) -> str:
     """sha256 (16 hex digits) of a checkpoint's metadata and weights."""
-    h = hashlib.sha256(json.dumps({k: state[k] for k in ("version", "model_config", "settings", "categories")},
-                                  sort_keys=True).encode())
+    h = hashlib.sha256(
+        json.dumps(
+            {k: state[k] for k in ("version", "model_config", "settings", "categories")}, sort_keys=True
+        ).encode()
+    )
     for name, tensor in sorted(state["state_dict"].items()):
         h.update(name.encode())
         h.update(tensor.detach().cpu().contiguous().numpy().tobytes())
@@ -121,7 +145,9 @@ class Predictor:
         checkpoint: where it was loaded from (error messages name it), if anywhere.
     """
 
-    def __init__(self, model: SegDepthNet, settings: RenderSettings, key: str, device="auto", checkpoint: str | None = None):
+    def __init__(
+        self, model: SegDepthNet, settings: RenderSettings, key: str, device="auto", checkpoint: str | None = None
+    ):
         self.device = device if isinstance(device, torch.device) else pick_device(device)
         self.model = model.to(self.device).eval()
         self.settings, self.key = _require_settings(settings), key
@@ -132,7 +158,9 @@ class Predictor:
         """The network of ``path`` (default: the shipped checkpoint)."""
         path = resolve_checkpoint(path)
         state = load_checkpoint(path)
-        model = SegDepthNet(ModelConfig.from_json(state["model_config"], source=f"the model_config of checkpoint {path}"))
+        model = SegDepthNet(
+            ModelConfig.from_json(state["model_config"], source=f"the model_config of checkpoint {path}")
+        )
         model.load_state_dict(state["state_dict"])
         return cls(model, checkpoint_settings(state, path), checkpoint_key(state), device, checkpoint=str(path))
 

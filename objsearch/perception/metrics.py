@@ -91,8 +91,12 @@ class DepthErrors:
         """``depth_absrel``, ``depth_rmse`` (metres), ``depth_delta1`` and ``depth_pixels``; NaN without pixels."""
         n = max(self.n, 1)
         nan = float("nan")
-        return {"depth_absrel": self.absrel / n if self.n else nan, "depth_rmse": float(np.sqrt(self.sq / n)) if self.n else nan,
-                "depth_delta1": self.delta1 / n if self.n else nan, "depth_pixels": self.n}
+        return {
+            "depth_absrel": self.absrel / n if self.n else nan,
+            "depth_rmse": float(np.sqrt(self.sq / n)) if self.n else nan,
+            "depth_delta1": self.delta1 / n if self.n else nan,
+            "depth_pixels": self.n,
+        }
 
 
 class Evaluation:
@@ -119,10 +123,16 @@ def format_table(result: dict) -> str:
     for c, iou in sorted(result["iou"].items()):
         mark = "yes" if c in result["counted"] else "-"
         other, share = result["confused_with"][c]
-        lines.append(f"{c:>3}  {CATEGORY_NAMES.get(c, '?'):<16} {iou:6.3f} {result['gt_pixels'][c]:>10}  {mark:<7}  "
-                     f"{CATEGORY_NAMES.get(other, '?')} {share:.0%}")
-    lines.append(f"mIoU over {len(result['counted'])} object categories: {result['miou']:.3f}   "
-                 f"pixel accuracy: {result['pixel_accuracy']:.3f}")
-    lines.append(f"depth AbsRel: {result['depth_absrel']:.3f}   RMSE: {result['depth_rmse']:.3f} m   "
-                 f"delta<1.25: {result['depth_delta1']:.3f}")
+        lines.append(
+            f"{c:>3}  {CATEGORY_NAMES.get(c, '?'):<16} {iou:6.3f} {result['gt_pixels'][c]:>10}  {mark:<7}  "
+            f"{CATEGORY_NAMES.get(other, '?')} {share:.0%}"
+        )
+    lines.append(
+        f"mIoU over {len(result['counted'])} object categories: {result['miou']:.3f}   "
+        f"pixel accuracy: {result['pixel_accuracy']:.3f}"
+    )
+    lines.append(
+        f"depth AbsRel: {result['depth_absrel']:.3f}   RMSE: {result['depth_rmse']:.3f} m   "
+        f"delta<1.25: {result['depth_delta1']:.3f}"
+    )
     return "\n".join(lines)

@@ -76,8 +76,9 @@ class ModelConfig(JsonConfig):
 
 def _conv_bn(cin: int, cout: int, k: int = 3, stride: int = 1, dilation: int = 1) -> nn.Sequential:
     pad = dilation * (k - 1) // 2
-    return nn.Sequential(nn.Conv2d(cin, cout, k, stride, pad, dilation=dilation, bias=False), nn.BatchNorm2d(cout),
-                         nn.ReLU(inplace=True))
+    return nn.Sequential(
+        nn.Conv2d(cin, cout, k, stride, pad, dilation=dilation, bias=False), nn.BatchNorm2d(cout), nn.ReLU(inplace=True)
+    )
 
 
 class ResidualBlock(nn.Module):
@@ -156,7 +157,9 @@ class SegDepthNet(nn.Module):
 
 def rgb_to_tensor(rgb, device: torch.device | str = "cpu") -> torch.Tensor:
     """uint8 (N, H, W, 3) numpy or tensor -> float (N, 3, H, W) in [0, 1] on ``device``."""
-    t = rgb if isinstance(rgb, torch.Tensor) else torch.from_numpy(np.array(rgb, dtype=np.uint8))  # a copy: memmaps are read-only
+    t = (
+        rgb if isinstance(rgb, torch.Tensor) else torch.from_numpy(np.array(rgb, dtype=np.uint8))
+    )  # a copy: memmaps are read-only
     t = t.to(device)
     return t.permute(0, 3, 1, 2).float().div_(255.0)
 

@@ -36,7 +36,18 @@ from objsearch.perception.model import NUM_CLASSES, SegDepthNet, pick_device
 from objsearch.sim.camera import RenderSettings
 
 CONFIG_FILE, MODEL_FILE, STATE_FILE, LOG_FILE = "config.json", "model.pt", "state.pt", "log.csv"
-LOG_FIELDS = ["step", "epoch", "lr", "loss", "seg_loss", "depth_loss", "wall_s", "val_miou", "val_absrel", "val_pixel_acc"]
+LOG_FIELDS = [
+    "step",
+    "epoch",
+    "lr",
+    "loss",
+    "seg_loss",
+    "depth_loss",
+    "wall_s",
+    "val_miou",
+    "val_absrel",
+    "val_pixel_acc",
+]
 
 
 def init_weights(model: SegDepthNet, generator: torch.Generator) -> None:
@@ -72,7 +83,9 @@ def augment(rgb: torch.Tensor, semantic: torch.Tensor, depth: torch.Tensor, gene
     contrast = 0.75 + 0.5 * u[:, 2]
     gain = 0.9 + 0.2 * u[:, 3:6]
     mean = rgb.mean(dim=(1, 2, 3), keepdim=True)
-    rgb = ((rgb - mean) * contrast[:, None, None, None] + mean) * brightness[:, None, None, None] * gain[:, :, None, None]
+    rgb = (
+        ((rgb - mean) * contrast[:, None, None, None] + mean) * brightness[:, None, None, None] * gain[:, :, None, None]
+    )
     return rgb.clamp(0.0, 1.0), semantic, depth
 
 
@@ -96,8 +109,14 @@ class TrainRun:
         self.settings = RenderSettings.from_json(manifest["settings"], source=Path(config.data) / "manifest.json")
         train = load_split(config.data, "train", config.max_train_frames or None)
         if len(train) < config.batch_size:
-            raise UserError(f"{len(train)} training frames in {config.data} are fewer than batch_size={config.batch_size}")
-        self.val = load_split(config.data, "val", config.val_frames) if config.val_frames and "val" in manifest["splits"] else None
+            raise UserError(
+                f"{len(train)} training frames in {config.data} are fewer than batch_size={config.batch_size}"
+            )
+        self.val = (
+            load_split(config.data, "val", config.val_frames)
+            if config.val_frames and "val" in manifest["splits"]
+            else None
+        )
         # uint8 frames stay uint8 on the device; a batch is converted when drawn
         self.rgb = torch.from_numpy(train.rgb).to(self.device)
         self.semantic = torch.from_numpy(train.semantic).to(self.device)
@@ -113,7 +132,9 @@ class TrainRun:
         self._perm_epoch, self._perm = -1, None
         state_path = self.out / STATE_FILE
         if state_path.exists() and not fresh:
-            torchfile.resume(state_path, config, self.load_state_dict, expected="the state.pt of a perception training run")
+            torchfile.resume(
+                state_path, config, self.load_state_dict, expected="the state.pt of a perception training run"
+            )
 
     def load_state_dict(self, state: dict) -> None:
         """Restore the model, optimizer, step, wall time and log rows from a ``state.pt`` dict."""
@@ -149,7 +170,9 @@ class TrainRun:
         logits, log_depth = self.model(rgb)
         seg_loss = F.cross_entropy(logits, semantic, weight=self.weights)
         valid = (depth > 0) & (depth < self.settings.zfar)
-        depth_loss = (log_depth - depth.clamp(min=1e-3).log()).abs()[valid].mean() if valid.any() else log_depth.sum() * 0
+        depth_loss = (
+            (log_depth - depth.clamp(min=1e-3).log()).abs()[valid].mean() if valid.any() else log_depth.sum() * 0
+        )
         loss = seg_loss + c.depth_weight * depth_loss
         self.optimizer.zero_grad(set_to_none=True)
         loss.backward()
@@ -163,8 +186,11 @@ class TrainRun:
             return {}
         result = evaluate(Predictor(self.model, self.settings, key="training", device=self.device), self.val)
         self.model.train()
-        return {"val_miou": round(result["miou"], 4), "val_absrel": round(result["depth_absrel"], 4),
-                "val_pixel_acc": round(result["pixel_accuracy"], 4)}
+        return {
+            "val_miou": round(result["miou"], 4),
+            "val_absrel": round(result["depth_absrel"], 4),
+            "val_pixel_acc": round(result["pixel_accuracy"], 4),
+        }
 
     def log_row(self, extra: dict) -> dict:
         """Append and return a log row: step, epoch, wall time, mean losses since the last row, and ``extra``."""
@@ -188,8 +214,14 @@ class TrainRun:
         self.config.save(self.out / CONFIG_FILE)
         save_checkpoint(self.out / MODEL_FILE, self.model, self.settings)
         self.write_log()
-        state = {"config": self.config.to_json(), "model": self.model.state_dict(), "optimizer": self.optimizer.state_dict(),
-                 "step": self.step, "wall_s": self.wall_s, "rows": self.rows}
+        state = {
+            "config": self.config.to_json(),
+            "model": self.model.state_dict(),
+            "optimizer": self.optimizer.state_dict(),
+            "step": self.step,
+            "wall_s": self.wall_s,
+            "rows": self.rows,
+        }
         torchfile.save(self.out / STATE_FILE, state)
 
     def run(self, progress: bool = True) -> bool:
@@ -198,7 +230,9 @@ class TrainRun:
 
         c = self.config
         with stop_on_interrupt() as stop:
-            bar = tqdm(total=c.steps, initial=self.step, unit="step", desc="train perception", disable=not progress or None)
+            bar = tqdm(
+                total=c.steps, initial=self.step, unit="step", desc="train perception", disable=not progress or None
+            )
             try:
                 t0, wall0 = time.perf_counter(), self.wall_s
                 while self.step < c.steps and not stop.is_set():

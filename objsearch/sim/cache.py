@@ -43,8 +43,8 @@ from tqdm import tqdm
 
 from objsearch.digests import sha256_file
 from objsearch.fileio import abandoned_temp_folders, atomic_directory
-from objsearch.sim.navgraph import NAVGRAPH_VERSION
 from objsearch.sim.camera import AGENT_CAMERA, AGENT_CAMERA_NAME, RenderSettings, check_predictor_camera
+from objsearch.sim.navgraph import NAVGRAPH_VERSION
 from objsearch.sim.renderer import HouseRenderer
 from objsearch.sim.world import World
 
@@ -53,7 +53,9 @@ PREDICTED_VERSION = "predicted-cache-v2"
 BATCH = 256
 LAYERS = ("rgb", "depth", "semantic")
 MAX_DEPTH_MM = np.iinfo(np.uint16).max  # 65.535 m: far beyond any house (zfar is 30 m by default)
-_MM = np.float32(1000)  # float32(mm) / 1000 in float32 is exactly quantize_depth's value for every uint16 (a test checks
+_MM = np.float32(
+    1000
+)  # float32(mm) / 1000 in float32 is exactly quantize_depth's value for every uint16 (a test checks
 # all 65,536), and 10x faster than a lookup table
 
 
@@ -112,8 +114,10 @@ def _check_depth_range(settings: RenderSettings) -> None:
     from objsearch.errors import UserError
 
     if settings.zfar * 1000 > MAX_DEPTH_MM:
-        raise UserError(f"zfar {settings.zfar} m: caches store depth as uint16 millimetres, up to 65.535 m; "
-                        "use a smaller zfar or mode='live'")
+        raise UserError(
+            f"zfar {settings.zfar} m: caches store depth as uint16 millimetres, up to 65.535 m; "
+            "use a smaller zfar or mode='live'"
+        )
 
 
 class HouseCache:
@@ -164,8 +168,10 @@ class HouseCache:
                 _fill_arrays(
                     tmp,
                     layers,
-                    ((start, {"rgb": f.rgb, "depth": depth_to_mm(quantize_depth(f.depth)), "semantic": f.semantic})
-                     for start, f in batches),
+                    (
+                        (start, {"rgb": f.rgb, "depth": depth_to_mm(quantize_depth(f.depth)), "semantic": f.semantic})
+                        for start, f in batches
+                    ),
                     f"cache {world.house_id}",
                     progress,
                 )
@@ -179,6 +185,7 @@ def _ensure_folder(directory: Path, expected: dict, layers: dict, fill, what: st
     (``check_folder``); otherwise rebuild it: ``fill`` writes the arrays into a temp folder
     that is then renamed into place. One process at a time (a lock file beside it).
     Returns the metadata (``expected`` plus the files' sizes and digests)."""
+
     def intact() -> dict:  # remember it, so that this process does not hash it again while it is unchanged
         _VERIFIED[directory] = (_signature(directory, layers), expected)
         return json.loads((directory / "meta.json").read_text())
@@ -220,8 +227,9 @@ def _signature(directory: Path, layers: dict) -> tuple | None:
     return tuple((st.st_size, st.st_mtime_ns, st.st_ino) for st in stats)
 
 
-def check_folder(directory: Path, expected: dict | None = None, layers: dict | None = None,
-                 digests: bool = True) -> str | None:
+def check_folder(
+    directory: Path, expected: dict | None = None, layers: dict | None = None, digests: bool = True
+) -> str | None:
     """What is wrong with the cache ``directory`` (None: nothing): no or unreadable
     ``meta.json``, metadata other than ``expected`` (None: any), a layer file missing, of
     another size, dtype or shape than ``layers`` ({name: (dtype, shape)}; None: any) or
@@ -275,8 +283,10 @@ def locked(directory: Path):
         except OSError as err:
             from objsearch.errors import UserError
 
-            raise UserError(f"cache {directory} needs building but {directory.parent} is not writable ({err.strerror}); "
-                            "pass a cache folder you can write to (--cache-dir or $OBJSEARCH_CACHE)") from None
+            raise UserError(
+                f"cache {directory} needs building but {directory.parent} is not writable ({err.strerror}); "
+                "pass a cache folder you can write to (--cache-dir or $OBJSEARCH_CACHE)"
+            ) from None
         try:
             fcntl.flock(fd, fcntl.LOCK_EX)
             try:  # its holder removed it as we waited: lock the new one
@@ -308,14 +318,16 @@ def format_size(size: int) -> str:
 def _home_short(path: Path) -> str:
     home = str(Path.home())
     text = str(path)
-    return "~" + text[len(home):] if text.startswith(home + os.sep) else text
+    return "~" + text[len(home) :] if text.startswith(home + os.sep) else text
 
 
 def _fill_arrays(folder: Path, layers: dict, batches, desc: str, progress: bool) -> None:
     """Create ``<name>.npy`` memory maps of ``layers`` ({name: (dtype, shape)}) in ``folder``
     and fill them from ``batches`` of (first pose, {name: values})."""
-    arrays = {name: np.lib.format.open_memmap(folder / f"{name}.npy", mode="w+", dtype=dtype, shape=shape)
-              for name, (dtype, shape) in layers.items()}
+    arrays = {
+        name: np.lib.format.open_memmap(folder / f"{name}.npy", mode="w+", dtype=dtype, shape=shape)
+        for name, (dtype, shape) in layers.items()
+    }
     total = len(next(iter(arrays.values())))
     with tqdm(total=total, desc=desc, unit="pose", disable=not progress or None) as bar:
         for start, values in batches:
@@ -355,19 +367,36 @@ class PredictedCache:
         self.semantic = np.asarray(np.load(directory / "semantic.npy", mmap_mode="r"))
 
     @classmethod
-    def open(cls, world: World, settings: RenderSettings, predictor: Predictor, cache_dir: str | Path | None = None,
-             progress: bool = True) -> "PredictedCache":
+    def open(
+        cls,
+        world: World,
+        settings: RenderSettings,
+        predictor: Predictor,
+        cache_dir: str | Path | None = None,
+        progress: bool = True,
+    ) -> "PredictedCache":
         """Open the predictions of ``predictor`` for the house, computing them if missing, stale or damaged.
 
         A predictor with ``settings`` must have been trained on ``settings``' frames
         (``CameraMismatchError`` otherwise), whoever calls.
         """
-        check_predictor_camera(predictor, settings, AGENT_CAMERA_NAME if settings == AGENT_CAMERA else
-                               f"the camera of these observations (cache key {settings.key()})")
+        check_predictor_camera(
+            predictor,
+            settings,
+            AGENT_CAMERA_NAME
+            if settings == AGENT_CAMERA
+            else f"the camera of these observations (cache key {settings.key()})",
+        )
         gt = HouseCache.open(world, settings, cache_dir, progress)
         directory = gt.directory.parent / f"{gt.directory.name}-pred-{predictor.key}"
-        expected = {"version": PREDICTED_VERSION, "observations": gt.meta["key"], "predictor": predictor.key,
-                    "house_id": world.house_id, "settings": settings.to_json(), "num_poses": gt.num_poses}
+        expected = {
+            "version": PREDICTED_VERSION,
+            "observations": gt.meta["key"],
+            "predictor": predictor.key,
+            "house_id": world.house_id,
+            "settings": settings.to_json(),
+            "num_poses": gt.num_poses,
+        }
         n, h, w = gt.semantic.shape
         layers = {"depth": (np.uint16, (n, h, w)), "semantic": (np.uint8, (n, h, w))}
 

@@ -28,8 +28,18 @@ from dataclasses import dataclass, fields
 from objsearch.configs import JsonConfig
 from objsearch.errors import UserError
 
-__all__ = ["RENDERER_VERSION", "MAX_SHEET", "RenderSettings", "AGENT_CAMERA", "AGENT_CAMERA_NAME", "PERCEPTION_FIX",
-           "CameraMismatchError", "check_camera", "check_predictor_camera", "describe_camera"]
+__all__ = [
+    "RENDERER_VERSION",
+    "MAX_SHEET",
+    "RenderSettings",
+    "AGENT_CAMERA",
+    "AGENT_CAMERA_NAME",
+    "PERCEPTION_FIX",
+    "CameraMismatchError",
+    "check_camera",
+    "check_predictor_camera",
+    "describe_camera",
+]
 
 #: Bump whenever the same settings and house could give different pixels (of
 #: ``objsearch.sim.renderer.HouseRenderer``). Here, not in the renderer, because every cache
@@ -74,8 +84,15 @@ class RenderSettings(JsonConfig):
     def __post_init__(self):
         if not all(isinstance(v, numbers.Integral) and 1 <= v <= MAX_SHEET for v in (self.width, self.height)):
             raise UserError(f"render size {self.width}x{self.height} must be integers in 1..{MAX_SHEET}")
-        for name, kind in (("width", int), ("height", int), ("fovy", float), ("camera_height", float), ("znear", float),
-                           ("zfar", float), ("ceiling", bool)):
+        for name, kind in (
+            ("width", int),
+            ("height", int),
+            ("fovy", float),
+            ("camera_height", float),
+            ("znear", float),
+            ("zfar", float),
+            ("ceiling", bool),
+        ):
             object.__setattr__(self, name, kind(getattr(self, name)))  # plain Python types: JSON, stable keys
         if not 1.0 <= self.fovy <= 170.0:
             raise UserError(f"fovy={self.fovy} must be in [1, 170] degrees")
@@ -100,8 +117,10 @@ every cache key) alone."""
 AGENT_CAMERA_NAME = "the agent camera (objsearch.sim.camera.AGENT_CAMERA)"
 """How error messages name ``AGENT_CAMERA``."""
 
-PERCEPTION_FIX = ("use a perception network trained on frames of that camera (objsearch perception dataset, then "
-                  "objsearch perception train), or pass --perception with such a checkpoint")
+PERCEPTION_FIX = (
+    "use a perception network trained on frames of that camera (objsearch perception dataset, then "
+    "objsearch perception train), or pass --perception with such a checkpoint"
+)
 
 
 class CameraMismatchError(UserError):
@@ -154,11 +173,15 @@ def check_camera(camera, expected: RenderSettings, *, source: str, expected_name
     else:
         mine, theirs = settings.to_json(), expected.to_json()
         differ = "they differ in " + ", ".join(k for k in theirs if mine[k] != theirs[k])
-    raise CameraMismatchError(f"{source} was made for camera [{describe_camera(settings or camera)}], but "
-                              f"{expected_name} is [{describe_camera(expected)}] ({differ}); {fix}")
+    raise CameraMismatchError(
+        f"{source} was made for camera [{describe_camera(settings or camera)}], but "
+        f"{expected_name} is [{describe_camera(expected)}] ({differ}); {fix}"
+    )
 
 
-def check_predictor_camera(predictor, expected: RenderSettings = AGENT_CAMERA, expected_name: str = AGENT_CAMERA_NAME) -> None:
+def check_predictor_camera(
+    predictor, expected: RenderSettings = AGENT_CAMERA, expected_name: str = AGENT_CAMERA_NAME
+) -> None:
     """``check_camera`` for a perception ``Predictor`` (its ``settings``: the camera of its
     training frames; its ``checkpoint``: where it came from) about to see frames of ``expected``.
 

@@ -32,8 +32,9 @@ def _name(model: mujoco.MjModel, g: int) -> str:
 
 def _overlap(a: np.ndarray, boxes: np.ndarray, pad: float = 0.0) -> np.ndarray:
     """Positive-area overlap of plan box a (x0, y0, x1, y1) with each of boxes (K, 4)."""
-    return ((np.minimum(a[2], boxes[:, 2] + pad) - np.maximum(a[0], boxes[:, 0] - pad) > EPS)
-            & (np.minimum(a[3], boxes[:, 3] + pad) - np.maximum(a[1], boxes[:, 1] - pad) > EPS))
+    return (np.minimum(a[2], boxes[:, 2] + pad) - np.maximum(a[0], boxes[:, 0] - pad) > EPS) & (
+        np.minimum(a[3], boxes[:, 3] + pad) - np.maximum(a[1], boxes[:, 1] - pad) > EPS
+    )
 
 
 class PortalCuller:
@@ -89,8 +90,12 @@ class PortalCuller:
         rel = np.arctan2(v[..., 1], v[..., 0]) - ac[:, None]
         rel = (rel + np.pi) % (2 * np.pi) - np.pi
         d = (ac - yaw + np.pi) % (2 * np.pi) - np.pi
-        inside = ((corners[:, 0, 0] - EPS <= p[0]) & (p[0] <= corners[:, 2, 0] + EPS)
-                  & (corners[:, 0, 1] - EPS <= p[1]) & (p[1] <= corners[:, 2, 1] + EPS))
+        inside = (
+            (corners[:, 0, 0] - EPS <= p[0])
+            & (p[0] <= corners[:, 2, 0] + EPS)
+            & (corners[:, 0, 1] - EPS <= p[1])
+            & (p[1] <= corners[:, 2, 1] + EPS)
+        )
         return d + rel.min(axis=1) - MARGIN, d + rel.max(axis=1) + MARGIN, inside
 
     @staticmethod
@@ -107,7 +112,9 @@ class PortalCuller:
             return None
         p = np.array([x, y])
         r = self.rooms
-        start = np.flatnonzero((r[:, 0] - EPS <= x) & (x <= r[:, 2] + EPS) & (r[:, 1] - EPS <= y) & (y <= r[:, 3] + EPS))
+        start = np.flatnonzero(
+            (r[:, 0] - EPS <= x) & (x <= r[:, 2] + EPS) & (r[:, 1] - EPS <= y) & (y <= r[:, 3] + EPS)
+        )
         if len(start) == 0:
             return None
         # Portal traversal (scalar Python: a handful of doors): room -> angular window.

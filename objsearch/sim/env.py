@@ -115,7 +115,9 @@ class HouseEnv(gymnasium.Env):
         if observation not in OBSERVATIONS:
             raise ValueError(f"observation must be one of {OBSERVATIONS}, not {observation!r}")
         if observation == "predicted" and predictor is None:
-            raise ValueError("observation='predicted' needs a predictor (objsearch.perception.inference.Predictor.from_checkpoint)")
+            raise ValueError(
+                "observation='predicted' needs a predictor (objsearch.perception.inference.Predictor.from_checkpoint)"
+            )
         if observation == "predicted":
             check_predictor_camera(predictor, settings, "this HouseEnv's camera (settings)")
         self.observation, self.predictor = observation, predictor
@@ -266,7 +268,9 @@ class HouseEnv(gymnasium.Env):
             raise RuntimeError("step() called on a finished episode; call reset() first")
         action = int(action)
         if not 0 <= action < self.action_space.n:
-            raise ValueError(f"invalid action {action}; expected 0..{self.action_space.n - 1} ({', '.join(ACTIONS[: self.action_space.n])})")
+            raise ValueError(
+                f"invalid action {action}; expected 0..{self.action_space.n - 1} ({', '.join(ACTIONS[: self.action_space.n])})"
+            )
         self._pose = int(self._next[self._pose, action])
         self._steps += 1
         at_goal = bool(self._goal_mask[self._pose])
@@ -313,13 +317,22 @@ class HouseEnv(gymnasium.Env):
             p = self._pose
             labels = self._labels_now
             # copies: the caller owns what it is given (Gymnasium's contract)
-            return {"rgb": source.rgb[p].copy(), "depth": labels.depth[p].copy(), "semantic": labels.semantic[p].copy(),
-                    "target": self._target_id}
+            return {
+                "rgb": source.rgb[p].copy(),
+                "depth": labels.depth[p].copy(),
+                "semantic": labels.semantic[p].copy(),
+                "target": self._target_id,
+            }
         frames = source.render(self._world.graph.world_poses([self._pose]))
         semantic, depth = frames.semantic, frames.depth
         if self.observation == "predicted":
             semantic, depth = self.predictor.predict(frames.rgb)
-        return {"rgb": frames.rgb[0], "depth": quantize_depth(depth[0]), "semantic": semantic[0], "target": self._target_id}
+        return {
+            "rgb": frames.rgb[0],
+            "depth": quantize_depth(depth[0]),
+            "semantic": semantic[0],
+            "target": self._target_id,
+        }
 
     def _info(self, success: bool) -> dict[str, Any]:
         return {

@@ -52,10 +52,14 @@ def requested_backends(value: str | None = None) -> tuple[str, ...]:
     if name in BACKENDS:
         return (name,)
     if name in _DISABLED_VALUES:
-        raise RenderBackendError(f"MUJOCO_GL={raw!r} disables rendering; unset it (tries {' then '.join(AUTO_ORDER)}) "
-                                 f"or set it to one of {', '.join(BACKENDS)}")
-    raise RenderBackendError(f"MUJOCO_GL={raw!r} is not a rendering backend; set it to one of {', '.join(BACKENDS)} "
-                             f"or unset it to try {' then '.join(AUTO_ORDER)}")
+        raise RenderBackendError(
+            f"MUJOCO_GL={raw!r} disables rendering; unset it (tries {' then '.join(AUTO_ORDER)}) "
+            f"or set it to one of {', '.join(BACKENDS)}"
+        )
+    raise RenderBackendError(
+        f"MUJOCO_GL={raw!r} is not a rendering backend; set it to one of {', '.join(BACKENDS)} "
+        f"or unset it to try {' then '.join(AUTO_ORDER)}"
+    )
 
 
 def check_mujoco_gl() -> None:
@@ -110,8 +114,10 @@ def create_gl_context(width: int, height: int):
     for name in candidates:
         platform = os.environ.get("PYOPENGL_PLATFORM")
         if platform and platform.lower() != name and name != "glfw":
-            failures.append(f"{name}: PyOpenGL is already bound to platform {platform!r} in this process "
-                            f"(set MUJOCO_GL={name} before the first render)")
+            failures.append(
+                f"{name}: PyOpenGL is already bound to platform {platform!r} in this process "
+                f"(set MUJOCO_GL={name} before the first render)"
+            )
             continue
         context = None
         try:
@@ -129,5 +135,6 @@ def create_gl_context(width: int, height: int):
             continue
         _working_backend = name
         return context, name
-    raise RenderBackendError("no OpenGL backend works for offscreen rendering; tried:\n  " + "\n  ".join(failures)
-                             + f"\nFix: {_FIX}.")
+    raise RenderBackendError(
+        "no OpenGL backend works for offscreen rendering; tried:\n  " + "\n  ".join(failures) + f"\nFix: {_FIX}."
+    )

@@ -120,8 +120,14 @@ class HouseRenderer:
         RenderBackendError: No OpenGL backend works (see ``objsearch.sim.glbackend``).
     """
 
-    def __init__(self, model: mujoco.MjModel, settings: RenderSettings = AGENT_CAMERA, *, cull: bool = True,
-                 tiles_per_read: int = 1):
+    def __init__(
+        self,
+        model: mujoco.MjModel,
+        settings: RenderSettings = AGENT_CAMERA,
+        *,
+        cull: bool = True,
+        tiles_per_read: int = 1,
+    ):
         self._gl = None
         self._con = None
         self.settings = settings
@@ -142,7 +148,9 @@ class HouseRenderer:
             self._con = mujoco.MjrContext(self.model, mujoco.mjtFontScale.mjFONTSCALE_50)
         except Exception as err:
             self.close()
-            raise RenderBackendError(f"MuJoCo could not create its render context with the {self.backend} backend: {err}") from err
+            raise RenderBackendError(
+                f"MuJoCo could not create its render context with the {self.backend} backend: {err}"
+            ) from err
         mujoco.mjr_setBuffer(mujoco.mjtFramebuffer.mjFB_OFFSCREEN, self._con)
         self._con.readDepthMap = mujoco.mjtDepthMap.mjDEPTH_ZEROFAR
         half_fov = math.atan(math.tan(math.radians(settings.fovy) / 2) * w / h)
@@ -171,9 +179,17 @@ class HouseRenderer:
         self._update_scene(None)
         if [scn.geoms[i].objid for i in range(model.ngeom)] != list(range(model.ngeom)):
             raise RuntimeError("mjv_updateScene did not add the geoms in model order; the id decoding relies on it")
-        for flag in (mujoco.mjtRndFlag.mjRND_SHADOW, mujoco.mjtRndFlag.mjRND_REFLECTION, mujoco.mjtRndFlag.mjRND_SKYBOX,
-                     mujoco.mjtRndFlag.mjRND_FOG, mujoco.mjtRndFlag.mjRND_HAZE, mujoco.mjtRndFlag.mjRND_WIREFRAME,
-                     mujoco.mjtRndFlag.mjRND_SEGMENT, mujoco.mjtRndFlag.mjRND_IDCOLOR, mujoco.mjtRndFlag.mjRND_DEPTH):
+        for flag in (
+            mujoco.mjtRndFlag.mjRND_SHADOW,
+            mujoco.mjtRndFlag.mjRND_REFLECTION,
+            mujoco.mjtRndFlag.mjRND_SKYBOX,
+            mujoco.mjtRndFlag.mjRND_FOG,
+            mujoco.mjtRndFlag.mjRND_HAZE,
+            mujoco.mjtRndFlag.mjRND_WIREFRAME,
+            mujoco.mjtRndFlag.mjRND_SEGMENT,
+            mujoco.mjtRndFlag.mjRND_IDCOLOR,
+            mujoco.mjtRndFlag.mjRND_DEPTH,
+        ):
             scn.flags[flag] = 0
         scn.flags[mujoco.mjtRndFlag.mjRND_CULL_FACE] = 1
 
@@ -186,8 +202,15 @@ class HouseRenderer:
 
         # Camera frustum (the same for every pose); both eyes identical (mono).
         top = s.znear * math.tan(math.radians(s.fovy) / 2)
-        self._frustum = dict(frustum_near=s.znear, frustum_far=s.zfar, frustum_top=top, frustum_bottom=-top,
-                             frustum_center=0.0, frustum_width=top * s.width / s.height, orthographic=0)
+        self._frustum = dict(
+            frustum_near=s.znear,
+            frustum_far=s.zfar,
+            frustum_top=top,
+            frustum_bottom=-top,
+            frustum_center=0.0,
+            frustum_width=top * s.width / s.height,
+            orthographic=0,
+        )
 
     def _ceiling_box(self):
         """(size, pos) of a slab over the house footprint, on top of the walls."""
@@ -198,7 +221,9 @@ class HouseRenderer:
         lo = (self._data.geom_xpos[world_boxes] - model.geom_size[world_boxes]).min(axis=0)
         hi = (self._data.geom_xpos[world_boxes] + model.geom_size[world_boxes]).max(axis=0)
         t = 0.05
-        return np.array([(hi[0] - lo[0]) / 2, (hi[1] - lo[1]) / 2, t]), np.array([(hi[0] + lo[0]) / 2, (hi[1] + lo[1]) / 2, hi[2] + t])
+        return np.array([(hi[0] - lo[0]) / 2, (hi[1] - lo[1]) / 2, t]), np.array(
+            [(hi[0] + lo[0]) / 2, (hi[1] + lo[1]) / 2, hi[2] + t]
+        )
 
     def _update_scene(self, visible: np.ndarray | None) -> None:
         """Rebuild the scene's geom list: only ``visible`` model geoms (all if None), plus the ceiling."""
@@ -211,8 +236,15 @@ class HouseRenderer:
         mujoco.mjv_updateScene(self.model, self._data, self._opt, None, self._cam, CATEGORIES, scn)
         if getattr(self, "_ceiling", None) is not None:
             geom = scn.geoms[scn.ngeom]
-            mujoco.mjv_initGeom(geom, mujoco.mjtGeom.mjGEOM_BOX, self._ceiling[0], self._ceiling[1], _EYE9, _CEILING_RGBA)
-            geom.objtype, geom.objid, geom.category, geom.segid = mujoco.mjtObj.mjOBJ_UNKNOWN, -1, mujoco.mjtCatBit.mjCAT_STATIC, scn.ngeom
+            mujoco.mjv_initGeom(
+                geom, mujoco.mjtGeom.mjGEOM_BOX, self._ceiling[0], self._ceiling[1], _EYE9, _CEILING_RGBA
+            )
+            geom.objtype, geom.objid, geom.category, geom.segid = (
+                mujoco.mjtObj.mjOBJ_UNKNOWN,
+                -1,
+                mujoco.mjtCatBit.mjCAT_STATIC,
+                scn.ngeom,
+            )
             geom.emission = CEILING_EMISSION  # lit from below only by the ambient term otherwise: too dark
             scn.ngeom += 1
 
@@ -249,8 +281,12 @@ class HouseRenderer:
             raise UserError("this HouseRenderer is closed; create a new one")
         poses = _as_poses(poses)
         n, s = len(poses), self.settings
-        out = Frames(rgb=np.empty((n, s.height, s.width, 3), np.uint8), depth=np.empty((n, s.height, s.width), np.float32),
-                     semantic=np.empty((n, s.height, s.width), np.uint8), instance=np.empty((n, s.height, s.width), np.int16))
+        out = Frames(
+            rgb=np.empty((n, s.height, s.width, 3), np.uint8),
+            depth=np.empty((n, s.height, s.width), np.float32),
+            semantic=np.empty((n, s.height, s.width), np.uint8),
+            instance=np.empty((n, s.height, s.width), np.int16),
+        )
         self._gl.make_current()
         w, h = s.width, s.height
         raw = np.empty((n, h, 2 * w, 3), np.uint8)  # bottom-up rows; RGB | id colour
@@ -258,7 +294,7 @@ class HouseRenderer:
         drawn = []  # per pose: the model geoms drawn, in scene order (None: all)
         per = self.cols * self.rows
         for chunk in range(0, n, per):
-            self._render_chunk(poses[chunk:chunk + per], raw[chunk:chunk + per], zbuf[chunk:chunk + per], drawn)
+            self._render_chunk(poses[chunk : chunk + per], raw[chunk : chunk + per], zbuf[chunk : chunk + per], drawn)
         raw, zbuf = raw[:, ::-1], zbuf[:, ::-1]  # OpenGL rows run bottom-up
         out.rgb[:] = raw[:, :, :w]
         out.depth[:] = self._linear_depth(zbuf)
@@ -273,8 +309,8 @@ class HouseRenderer:
         everything = np.arange(self.model.ngeom)
         for k, geoms in enumerate(drawn):
             geoms = everything if geoms is None else geoms
-            sem_lut[k, 1:len(geoms) + 1] = self._cats[geoms]
-            inst_lut[k, 1:len(geoms) + 1] = self._inst[geoms]
+            sem_lut[k, 1 : len(geoms) + 1] = self._cats[geoms]
+            inst_lut[k, 1 : len(geoms) + 1] = self._inst[geoms]
             if self._ceiling is not None:
                 sem_lut[k, len(geoms) + 1] = CEILING_ID
         flat = ids + (np.arange(n) * width)[:, None, None]

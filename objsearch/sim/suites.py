@@ -58,10 +58,36 @@ SUITE_SEED = 20211201
 SUITE_FILE_KEYS = ("version", "max_steps", "categories", "houses", "training_houses", "goals", "splits")
 # Targets: objects large enough to be found from across a room (the kind House3D used).
 TARGETS = (
-    "armchair", "bathtub", "bed", "bookshelf", "chair", "coffee_table", "counter", "desk", "dining_table",
-    "dishwasher", "dresser", "filing_cabinet", "floor_lamp", "fridge", "kitchen_sink", "mirror", "nightstand",
-    "office_chair", "painting", "plant", "side_table", "sink", "sofa", "stove", "toilet", "trash_can", "tv",
-    "tv_stand", "wardrobe", "whiteboard",
+    "armchair",
+    "bathtub",
+    "bed",
+    "bookshelf",
+    "chair",
+    "coffee_table",
+    "counter",
+    "desk",
+    "dining_table",
+    "dishwasher",
+    "dresser",
+    "filing_cabinet",
+    "floor_lamp",
+    "fridge",
+    "kitchen_sink",
+    "mirror",
+    "nightstand",
+    "office_chair",
+    "painting",
+    "plant",
+    "side_table",
+    "sink",
+    "sofa",
+    "stove",
+    "toilet",
+    "trash_can",
+    "tv",
+    "tv_stand",
+    "wardrobe",
+    "whiteboard",
 )
 
 
@@ -72,13 +98,17 @@ def load_suite_file(name: str) -> dict:
     if name in SUITE_NAMES:
         return _shipped_suite_file(name)
     if not name.endswith(".json"):
-        raise UserError(f"unknown house suite {name!r}; known: {', '.join(SUITE_NAMES)}, "
-                        "or the path of a suite file (.json) made by objsearch suite make")
+        raise UserError(
+            f"unknown house suite {name!r}; known: {', '.join(SUITE_NAMES)}, "
+            "or the path of a suite file (.json) made by objsearch suite make"
+        )
     path = Path(name)
     try:
         data = json.loads(path.read_text())
     except FileNotFoundError:
-        raise UserError(f"suite file {path} does not exist; make it with objsearch suite make --houses DIR --out {path}") from None
+        raise UserError(
+            f"suite file {path} does not exist; make it with objsearch suite make --houses DIR --out {path}"
+        ) from None
     except OSError as err:
         raise UserError(f"cannot read suite file {path}: {err.strerror}") from None
     except json.JSONDecodeError as err:
@@ -115,21 +145,29 @@ def load_house(ref: HouseRef, name: str) -> World:
 
     folder = Path(ref.path)
     if not folder.is_dir():
-        raise UserError(f"house {name}: folder {folder} is missing; restore it, or remake the suite with objsearch suite make")
+        raise UserError(
+            f"house {name}: folder {folder} is missing; restore it, or remake the suite with objsearch suite make"
+        )
     try:
         world = World.load(HouseRef(path=ref.path))
         if ref.spec_sha256 is not None and world.spec_sha256 != ref.spec_sha256:
-            raise UserError(f"{folder / 'spec.json'} changed after the suite was made (spec hash {world.spec_sha256[:12]}, "
-                            f"the suite has {ref.spec_sha256[:12]}); restore the house, or remake the suite with "
-                            "objsearch suite make")
+            raise UserError(
+                f"{folder / 'spec.json'} changed after the suite was made (spec hash {world.spec_sha256[:12]}, "
+                f"the suite has {ref.spec_sha256[:12]}); restore the house, or remake the suite with "
+                "objsearch suite make"
+            )
         if compile_house(world.spec)[1] != (folder / "house.xml").read_text():
-            raise UserError(f"{folder / 'spec.json'} no longer matches its house.xml (one was edited, or they come from "
-                            "another objsearch or MuJoCo version); regenerate the house with objsearch generate")
+            raise UserError(
+                f"{folder / 'spec.json'} no longer matches its house.xml (one was edited, or they come from "
+                "another objsearch or MuJoCo version); regenerate the house with objsearch generate"
+            )
     except UserError as err:
         raise UserError(f"house {name}: {' '.join(str(err).split())}") from None
     except (ValueError, KeyError, TypeError, AttributeError) as err:
-        raise UserError(f"house {name}: {folder / 'spec.json'} is not a house spec ({' '.join(str(err).split())}); "
-                        "regenerate the house with objsearch generate") from None
+        raise UserError(
+            f"house {name}: {folder / 'spec.json'} is not a house spec ({' '.join(str(err).split())}); "
+            "regenerate the house with objsearch generate"
+        ) from None
     return world
 
 
@@ -200,7 +238,9 @@ def _episodes(worlds: dict[str, World], goals: dict, targets: list[str], count: 
         dist = graph.shortest_steps([graph.pose_id(*g) for g in goals[house][target]])
         starts = np.flatnonzero((dist >= START_STEPS[0]) & (dist <= START_STEPS[1]))
         start = int(starts[rng.integers(len(starts))])
-        out.append({"house": house, "start": list(graph.pose_of(start)), "target": target, "min_steps": int(dist[start])})
+        out.append(
+            {"house": house, "start": list(graph.pose_of(start)), "target": target, "min_steps": int(dist[start])}
+        )
     return out
 
 
@@ -217,8 +257,9 @@ def _found_in_half(goals: dict, house_ids: list[str]) -> list[str]:
     return sorted(t for t in TARGETS if sum(t in goals[house] for house in house_ids) >= len(house_ids) / 2)
 
 
-def _suite_record(name: str, version: str, categories: dict, houses: dict, training: dict, goals: dict,
-                  splits: dict) -> dict:
+def _suite_record(
+    name: str, version: str, categories: dict, houses: dict, training: dict, goals: dict, splits: dict
+) -> dict:
     """A suite file's content: the given parts and the settings every suite records."""
     return {
         "suite": name,
@@ -310,8 +351,14 @@ def build_suite(name: str, cache_dir: str | None = None) -> dict:
     return _suite_record(name, f"{name}-v1", categories, houses, training, goals, splits)
 
 
-def suite_from_houses(houses_dir: str | os.PathLike, out: str | os.PathLike, targets: list[str] | None = None,
-                      episodes: int = EPISODES_PER_SPLIT, seed: int = 0, cache_dir: str | None = None) -> dict:
+def suite_from_houses(
+    houses_dir: str | os.PathLike,
+    out: str | os.PathLike,
+    targets: list[str] | None = None,
+    episodes: int = EPISODES_PER_SPLIT,
+    seed: int = 0,
+    cache_dir: str | None = None,
+) -> dict:
     """The suite file to write at ``out`` for the houses under ``houses_dir`` (the folders
     ``objsearch generate --out`` writes), made as ``build_suite`` makes the shipped ones: goal
     poses by the goal rule (rendering every pose into the cache), spec hashes, and one split
@@ -326,8 +373,10 @@ def suite_from_houses(houses_dir: str | os.PathLike, out: str | os.PathLike, tar
     for folder in house_folders(root):
         world = load_house(HouseRef(path=str(folder)), folder.name)
         if world.house_id in worlds:
-            raise UserError(f"{folders[world.house_id]} and {folder} hold the same house {world.house_id} "
-                            "(a copied folder?); keep one of them")
+            raise UserError(
+                f"{folders[world.house_id]} and {folder} hold the same house {world.house_id} "
+                "(a copied folder?); keep one of them"
+            )
         worlds[world.house_id], folders[world.house_id] = world, folder
         stored = Path(os.path.relpath(folder.resolve(), base)).as_posix()
         houses[world.house_id] = house_entry(world, HouseRef(path=stored))
@@ -335,13 +384,17 @@ def suite_from_houses(houses_dir: str | os.PathLike, out: str | os.PathLike, tar
     if targets:
         for target in wanted:
             if not any(target in table for table in tables.values()):
-                raise UserError(f"target {target!r} has no goal pose {START_STEPS[0]}-{START_STEPS[1]} steps from a "
-                                f"start in any house under {root}; drop it from --targets")
+                raise UserError(
+                    f"target {target!r} has no goal pose {START_STEPS[0]}-{START_STEPS[1]} steps from a "
+                    f"start in any house under {root}; drop it from --targets"
+                )
     else:
         wanted = _found_in_half(tables, list(worlds))
         if not wanted:
-            raise UserError(f"no target category has goal poses in at least half of the houses under {root}; "
-                            "name the targets with --targets")
+            raise UserError(
+                f"no target category has goal poses in at least half of the houses under {root}; "
+                "name the targets with --targets"
+            )
     goals = {house: {t: poses for t, poses in table.items() if t in wanted} for house, table in tables.items()}
     splits = {Path(out).stem: _episodes(worlds, goals, wanted, episodes, np.random.default_rng(seed))}
     spec_hashes = {house: entry["spec_sha256"] for house, entry in houses.items()}
@@ -353,11 +406,16 @@ def house_folders(root: Path) -> list[Path]:
     """The house folders under ``root`` (those with a ``house.xml`` or ``spec.json``), by name."""
     if not root.is_dir():
         raise UserError(f"houses folder {root} does not exist; write houses there with objsearch generate --out {root}")
-    folders = sorted(p for p in root.iterdir() if p.is_dir() and not p.name.startswith(".")
-                     and ((p / "house.xml").exists() or (p / "spec.json").exists()))
+    folders = sorted(
+        p
+        for p in root.iterdir()
+        if p.is_dir() and not p.name.startswith(".") and ((p / "house.xml").exists() or (p / "spec.json").exists())
+    )
     if not folders:
-        raise UserError(f"no houses under {root}: expected folders with house.xml and spec.json, as "
-                        f"objsearch generate --out {root} writes them")
+        raise UserError(
+            f"no houses under {root}: expected folders with house.xml and spec.json, as "
+            f"objsearch generate --out {root} writes them"
+        )
     return folders
 
 
@@ -370,8 +428,10 @@ def _check_targets(targets: list[str]) -> list[str]:
         if target not in objects:
             close = difflib.get_close_matches(target, objects, n=1)
             hint = f"did you mean {close[0]!r}? " if close else ""
-            raise UserError(f"unknown target category {target!r}; {hint}use object categories of the category "
-                            "table (objsearch generate writes it to categories.json)")
+            raise UserError(
+                f"unknown target category {target!r}; {hint}use object categories of the category "
+                "table (objsearch generate writes it to categories.json)"
+            )
     return sorted(set(targets))
 
 

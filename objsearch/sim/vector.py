@@ -29,7 +29,9 @@ class HouseVectorEnv(gymnasium.vector.VectorEnv):
 
     def __init__(self, num_envs: int, **env_kwargs):
         if env_kwargs.pop("mode", "cached") != "cached" or env_kwargs.get("stop_action"):
-            raise ValueError("HouseVectorEnv steps cached observations without STOP; use HouseEnv for live rendering or STOP")
+            raise ValueError(
+                "HouseVectorEnv steps cached observations without STOP; use HouseEnv for live rendering or STOP"
+            )
         self.env = HouseEnv(mode="cached", **env_kwargs)
         self.num_envs = int(num_envs)
         self.single_observation_space = self.env.observation_space
@@ -85,7 +87,11 @@ class HouseVectorEnv(gymnasium.vector.VectorEnv):
         for h in np.unique(self.house):
             envs = np.flatnonzero(self.house == h)
             poses, labels = self.pose[envs], self._labels[h]
-            obs["rgb"][envs], obs["depth"][envs], obs["semantic"][envs] = self._caches[h].rgb[poses], labels.depth[poses], labels.semantic[poses]
+            obs["rgb"][envs], obs["depth"][envs], obs["semantic"][envs] = (
+                self._caches[h].rgb[poses],
+                labels.depth[poses],
+                labels.semantic[poses],
+            )
         return obs
 
     def reset(self, *, seed: int | None = None, options: dict | None = None):

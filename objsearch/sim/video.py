@@ -94,10 +94,14 @@ def write_episode(out_stem: str | Path, world: World, task, trajectory, views) -
     os.close(fd)
     try:
         writer = cv2.VideoWriter(tmp, cv2.VideoWriter_fourcc(*"mp4v"), FPS, size)
-        drawn = _base_map(world, task.goals, path)  # the map of each step is this one's trajectory so far, and the agent
+        drawn = _base_map(
+            world, task.goals, path
+        )  # the map of each step is this one's trajectory so far, and the agent
         for step in range(len(trajectory)):
             frame = np.zeros((VIEW, size[0], 3), np.uint8)
-            frame[:, :view_w] = cv2.resize(np.ascontiguousarray(views[step][:, :, ::-1]), (view_w, VIEW), interpolation=cv2.INTER_NEAREST)
+            frame[:, :view_w] = cv2.resize(
+                np.ascontiguousarray(views[step][:, :, ::-1]), (view_w, VIEW), interpolation=cv2.INTER_NEAREST
+            )
             if step:
                 _draw_move(drawn, trajectory[step - 1], trajectory[step])
             step_map = drawn.copy()

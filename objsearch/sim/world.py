@@ -65,7 +65,9 @@ class World:
                 spec = HouseSpec.from_json(json.loads((directory / "spec.json").read_text()), directory / "spec.json")
                 model = mujoco.MjModel.from_xml_path(str(directory / "house.xml"))
             except (OSError, ValueError) as err:
-                raise UserError(f"cannot load house {directory}: {err}; expected a folder written by objsearch generate") from None
+                raise UserError(
+                    f"cannot load house {directory}: {err}; expected a folder written by objsearch generate"
+                ) from None
             world = cls(spec, model)
         else:
             from objsearch.house.generate import generate_house

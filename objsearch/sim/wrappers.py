@@ -33,7 +33,10 @@ class TargetMaskDepth(gymnasium.ObservationWrapper):
         depth = np.asarray(observation["depth"], dtype=np.float32)
         shape = (self.size, self.size)
         return np.stack(
-            [cv2.resize(mask, shape, interpolation=cv2.INTER_AREA), cv2.resize(depth, shape, interpolation=cv2.INTER_AREA)]
+            [
+                cv2.resize(mask, shape, interpolation=cv2.INTER_AREA),
+                cv2.resize(depth, shape, interpolation=cv2.INTER_AREA),
+            ]
         )
 
 

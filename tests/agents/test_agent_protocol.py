@@ -1,7 +1,6 @@
 """Every learning agent plays through the evaluation harness (untrained: it must run, not
 score), draws its randomness from task.rng only, and refuses a mismatched checkpoint."""
 
-
 import pytest
 
 from objsearch.errors import UserError

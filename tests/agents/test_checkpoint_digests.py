@@ -18,8 +18,9 @@ from objsearch.eval.registry import make_agent
 from objsearch.perception.inference import SHIPPED_CHECKPOINT, load_checkpoint
 from objsearch_agents.house.agent import CHECKPOINTS
 
-SHIPPED_FOLDERS = sorted({p.parent for p in [*CHECKPOINTS.rglob("*.pt"), *CHECKPOINTS.rglob("*.npz")]}
-                         | {SHIPPED_CHECKPOINT.parent})
+SHIPPED_FOLDERS = sorted(
+    {p.parent for p in [*CHECKPOINTS.rglob("*.pt"), *CHECKPOINTS.rglob("*.npz")]} | {SHIPPED_CHECKPOINT.parent}
+)
 
 
 def flip_byte(path: Path, at: float = 0.5) -> None:
@@ -38,8 +39,15 @@ def test_every_shipped_checkpoint_file_is_listed_in_its_folders_sha256sums_and_m
             assert digests.sha256_file(folder / name) == sums[name], folder / name
 
 
-@pytest.mark.parametrize("suite, agent, damaged", [("gridworld", "hrl_grg", "policy.pt"), ("gridworld", "hrl_grg", "grg.npz"),
-                                                   ("house-single", "hrl_grg", "policy.pt"), ("house-single", "a3c", "policy.pt")])
+@pytest.mark.parametrize(
+    "suite, agent, damaged",
+    [
+        ("gridworld", "hrl_grg", "policy.pt"),
+        ("gridworld", "hrl_grg", "grg.npz"),
+        ("house-single", "hrl_grg", "policy.pt"),
+        ("house-single", "a3c", "policy.pt"),
+    ],
+)
 def test_flipped_bytes_in_shipped_weights_are_refused(tmp_path, suite, agent, damaged):
     copy = tmp_path / agent
     shutil.copytree(CHECKPOINTS / suite / agent, copy)
@@ -53,8 +61,21 @@ def test_the_cli_refuses_damaged_weights_with_one_line_and_exit_2(tmp_path):
     copy = tmp_path / "hrl_grg"
     shutil.copytree(CHECKPOINTS / "gridworld" / "hrl_grg", copy)
     flip_byte(copy / "policy.pt", 0.9)
-    out = subprocess.run([str(Path(sys.executable).parent / "objsearch-eval"), "--agent", "hrl_grg", "--suite", "gridworld",
-                          "--checkpoint", str(copy), "--quiet"], capture_output=True, text=True, timeout=120)
+    out = subprocess.run(
+        [
+            str(Path(sys.executable).parent / "objsearch-eval"),
+            "--agent",
+            "hrl_grg",
+            "--suite",
+            "gridworld",
+            "--checkpoint",
+            str(copy),
+            "--quiet",
+        ],
+        capture_output=True,
+        text=True,
+        timeout=120,
+    )
     assert out.returncode == 2 and "Traceback" not in out.stderr, out.stderr
     assert "policy.pt does not match its digest" in out.stderr and "restore it" in out.stderr
 

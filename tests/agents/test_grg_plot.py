@@ -4,8 +4,8 @@ import cv2
 import numpy as np
 import pytest
 
-from objsearch_agents.grg import GoalsRelationalGraph
 from objsearch.cli import main
+from objsearch_agents.grg import GoalsRelationalGraph
 from objsearch_agents.grg_plot import CHAINS, chain_recovery
 
 
@@ -49,13 +49,16 @@ def test_plot_of_the_shipped_house_checkpoint_is_figure_5(tmp_path, capsys):
     assert lines[-1] == f"wrote {out}" and 1 <= len(lines) - 1 <= 6 and " -> " in lines[0]
 
 
-@pytest.mark.parametrize("args, needle", [
-    (["{tmp}/missing"], "no GRG at {tmp}/missing"),
-    (["{tmp}/bad.npz"], "cannot read GRG file {tmp}/bad.npz"),
-    (["{tmp}", "--world", "house"], "holds a gridworld GRG, not a house one"),
-    (["{tmp}", "--edges", "3"], "--edges applies to house GRGs"),
-    (["{tmp}", "--out", "{tmp}/grg.jpg"], "--out {tmp}/grg.jpg: the figure is a PNG"),
-])
+@pytest.mark.parametrize(
+    "args, needle",
+    [
+        (["{tmp}/missing"], "no GRG at {tmp}/missing"),
+        (["{tmp}/bad.npz"], "cannot read GRG file {tmp}/bad.npz"),
+        (["{tmp}", "--world", "house"], "holds a gridworld GRG, not a house one"),
+        (["{tmp}", "--edges", "3"], "--edges applies to house GRGs"),
+        (["{tmp}", "--out", "{tmp}/grg.jpg"], "--out {tmp}/grg.jpg: the figure is a PNG"),
+    ],
+)
 def test_plot_refuses_bad_input_naming_it(tmp_path, capsys, args, needle):
     chain_graph().save(tmp_path / "grg.npz")
     (tmp_path / "bad.npz").write_bytes(b"not an npz")

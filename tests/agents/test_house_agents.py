@@ -10,15 +10,15 @@ import torch
 from objsearch import torchfile
 from objsearch.errors import UserError
 from objsearch.house.categories import CATEGORY_IDS, FIRST_OBJECT_ID
-from objsearch.sim.env import HouseEnv
 from objsearch.sim.camera import AGENT_CAMERA, CameraMismatchError
+from objsearch.sim.env import HouseEnv
 from objsearch.sim.world import HouseRef
 from objsearch.sim.wrappers import FrameHistory, TargetMaskDepth
 from objsearch_agents.house.agent import CHECKPOINTS
 from objsearch_agents.house.config import HouseAgentConfig
 from objsearch_agents.house.episodes import EpisodeBatch, TrainingHouses
 from objsearch_agents.house.nets import CategoryQ
-from objsearch_agents.house.policy import NUM_NODES, HousePolicy, category_input, sample_actions
+from objsearch_agents.house.policy import NUM_NODES, HousePolicy, category_input
 from objsearch_agents.house.tables import NUM_CATEGORIES, ObservationTables, house_tables
 from objsearch_agents.house.train import HouseTrainRun, save_policy
 
@@ -46,7 +46,8 @@ def test_tables_equal_the_wrappers(cache_dir):
         raw = env._observe()
         frames = [raw] * 4 if not frames else frames[1:] + [raw]
         from_frames = ObservationTables.concat(
-            [ObservationTables.from_frames(f["semantic"][None], f["depth"][None]) for f in frames])
+            [ObservationTables.from_frames(f["semantic"][None], f["depth"][None]) for f in frames]
+        )
         for t in (tables, from_frames):
             poses = np.array([hist]) if t is tables else np.arange(4)[None]
             assert np.array_equal(t.masks(poses, np.array([target]))[0], obs[:, 0])
@@ -115,7 +116,7 @@ def test_grg_counts_first_sightings_in_3d_by_hand():
     assert counts.sum() == NUM_NODES - 1  # every object node counted once, the random node never
     weights = policy.grg.edge_weights()
     assert weights[node(bed), node(lamp)] == pytest.approx(0.5)  # posterior (1 seen-after-1, 1 prior not-seen)
-    assert weights[node(bed), node(tv)] == pytest.approx(0.5 * 0.99 ** 2)
+    assert weights[node(bed), node(tv)] == pytest.approx(0.5 * 0.99**2)
 
 
 def test_plan_termination_ends_an_option_when_a_later_plan_node_is_seen():
@@ -189,8 +190,17 @@ def random_action(batch, rng):
 
 def train_small(houses, out, method, steps, init_ac=None, pool="approach", **settings):
     torch.set_num_threads(1)
-    config = replace(HouseAgentConfig(), method=method, num_envs=32, max_steps=30, steps=steps, curriculum_episodes=1000,
-                     checkpoint_every=10**9, log_every=50_000, **settings)
+    config = replace(
+        HouseAgentConfig(),
+        method=method,
+        num_envs=32,
+        max_steps=30,
+        steps=steps,
+        curriculum_episodes=1000,
+        checkpoint_every=10**9,
+        log_every=50_000,
+        **settings,
+    )
     run = HouseTrainRun(config, out, houses, pool=pool)
     if init_ac is not None:
         run.policy.ac.load_state_dict(init_ac)
@@ -224,12 +234,16 @@ def test_q_methods_learn_the_trivial_task_and_beat_random(one_target, approacher
     untrained self, so that what it learned is measured. (h-DQN's high level, a Q over all
     62 nodes, did not beat its untrained self here within 30k steps: 0.27 against 0.27.)"""
     houses = one_target
-    settings = dict(lr=1e-3, learning_starts=500, update_every=4, target_update=1_000, eps_anneal_episodes=300,
-                    plan_every=5)
+    settings = dict(
+        lr=1e-3, learning_starts=500, update_every=4, target_update=1_000, eps_anneal_episodes=300, plan_every=5
+    )
     init = approacher.ac.state_dict() if method != "dqn" else None
-    trained = {n: train_small(houses, tmp_path / str(n), method, n, init, pool="search", **settings)
-               for n in (0, steps)}
-    untrained, mine = (approach_success(houses, policy_act(houses, trained[n], 0.05), pool="search") for n in (0, steps))
+    trained = {
+        n: train_small(houses, tmp_path / str(n), method, n, init, pool="search", **settings) for n in (0, steps)
+    }
+    untrained, mine = (
+        approach_success(houses, policy_act(houses, trained[n], 0.05), pool="search") for n in (0, steps)
+    )
     rand = approach_success(houses, random_action, pool="search")
     assert mine > max(rand, untrained) + 0.2, (mine, untrained, rand)
 
@@ -245,18 +259,33 @@ def test_train_low_trains_the_low_level_on_its_sub_goals(houses, tmp_path):
         a3c.ac.load_state_dict(policy.ac.state_dict())
         return approach_success(houses, policy_act(houses, a3c))
 
-    untrained, mine = (low_level_success(train_small(houses, tmp_path / str(n), "hrl_grg", n, train_low=True, ac_lr=1e-3))
-                       for n in (0, 40_000))
+    untrained, mine = (
+        low_level_success(train_small(houses, tmp_path / str(n), "hrl_grg", n, train_low=True, ac_lr=1e-3))
+        for n in (0, 40_000)
+    )
     rand = approach_success(houses, random_action)
     assert mine > max(untrained, rand) + 0.15, (mine, untrained, rand)
 
 
-@pytest.mark.parametrize("method, settings", [("a3c", {}), ("dqn", {}), ("hrl_grg", {}), ("hrl_grg", {"train_low": True})])
+@pytest.mark.parametrize(
+    "method, settings", [("a3c", {}), ("dqn", {}), ("hrl_grg", {}), ("hrl_grg", {"train_low": True})]
+)
 def test_resume_is_exact(houses, tmp_path, method, settings):
     torch.set_num_threads(1)
-    config = replace(HouseAgentConfig(), method=method, num_envs=8, max_steps=60, steps=6_000, learning_starts=200,
-                     update_every=8, target_update=2_000, plan_every=3, checkpoint_every=10**9, log_every=2_000,
-                     **settings)
+    config = replace(
+        HouseAgentConfig(),
+        method=method,
+        num_envs=8,
+        max_steps=60,
+        steps=6_000,
+        learning_starts=200,
+        update_every=8,
+        target_update=2_000,
+        plan_every=3,
+        checkpoint_every=10**9,
+        log_every=2_000,
+        **settings,
+    )
 
     def run_for(steps, out, resume_from=None):
         run = HouseTrainRun(replace(config, steps=steps), out, houses)
@@ -297,9 +326,12 @@ def test_house_agents_refuse_other_checkpoints_and_suites(tmp_path):
     assert state["camera"] == AGENT_CAMERA.to_json()  # policies record the camera their agent sees
     state["camera"] = {**AGENT_CAMERA.to_json(), "width": 128}
     torchfile.save(tmp_path / "policy.pt", state)
-    with pytest.raises(CameraMismatchError, match=r"house policy checkpoint .*policy.pt was made for camera \[width=128 .*"
-                       r"the agent camera \(objsearch.sim.camera.AGENT_CAMERA\) is \[width=64 .*differ in width\); retrain it "
-                       r"\(objsearch train --agent dqn --suite house-multi\)"):
+    with pytest.raises(
+        CameraMismatchError,
+        match=r"house policy checkpoint .*policy.pt was made for camera \[width=128 .*"
+        r"the agent camera \(objsearch.sim.camera.AGENT_CAMERA\) is \[width=64 .*differ in width\); retrain it "
+        r"\(objsearch train --agent dqn --suite house-multi\)",
+    ):
         make_agent("dqn", str(tmp_path), suite="house-multi")
     del state["camera"]
     torchfile.save(tmp_path / "policy.pt", state)
@@ -331,8 +363,13 @@ def test_every_shipped_house_checkpoint_loads():
 def test_batched_evaluation_gives_the_sequential_records(cache_dir, agent):
     from objsearch.eval.runner import EvalConfig, evaluate
 
-    config = EvalConfig(agent=agent, suite="house-single", splits=("seen-goals",), seeds=(1,),
-                        suite_config={"mode": "cached", "cache_dir": cache_dir, "max_steps": 60})
+    config = EvalConfig(
+        agent=agent,
+        suite="house-single",
+        splits=("seen-goals",),
+        seeds=(1,),
+        suite_config={"mode": "cached", "cache_dir": cache_dir, "max_steps": 60},
+    )
     one = evaluate(config, progress=False, batch=1)
     many = evaluate(config, progress=False, batch=16)
     assert many["episodes"] == one["episodes"]

@@ -21,8 +21,15 @@ def tiny_map() -> GridMap:
 
 
 def success_rate(grid_map, act, episodes=512, max_steps=20, seed=123) -> float:
-    env = BatchedGridWorld(GridTables.build([grid_map]), episodes, goals=(0, 1), observation="all_goals",
-                           max_steps=max_steps, autoreset=False, rng=np.random.default_rng(seed))
+    env = BatchedGridWorld(
+        GridTables.build([grid_map]),
+        episodes,
+        goals=(0, 1),
+        observation="all_goals",
+        max_steps=max_steps,
+        autoreset=False,
+        rng=np.random.default_rng(seed),
+    )
     obs, rng = env.reset(), np.random.default_rng(seed + 1)
     alive, won = np.ones(episodes, bool), np.zeros(episodes, bool)
     for _ in range(max_steps):
@@ -36,9 +43,22 @@ def test_dqn_beats_random_on_a_tiny_map(tmp_path):
     torch.set_num_threads(1)
     grid_map = tiny_map()
     config = replace(
-        GridAgentConfig(), method="dqn", seed=0, num_envs=16, max_steps=20, episodes=1200, lr=1e-3, gamma=0.9,
-        learning_starts=256, batch_size=32, update_every=4, target_update=500, eps_anneal_episodes=600,
-        curriculum_episodes=300, checkpoint_every=10**9, log_every=500,
+        GridAgentConfig(),
+        method="dqn",
+        seed=0,
+        num_envs=16,
+        max_steps=20,
+        episodes=1200,
+        lr=1e-3,
+        gamma=0.9,
+        learning_starts=256,
+        batch_size=32,
+        update_every=4,
+        target_update=500,
+        eps_anneal_episodes=600,
+        curriculum_episodes=300,
+        checkpoint_every=10**9,
+        log_every=500,
     )
     run = TrainRun(config, tmp_path, [grid_map], goals=(0, 1))
     run.begin()

@@ -14,13 +14,42 @@ import torch
 
 from objsearch.eval.runner import EvalConfig, evaluate
 
-TINY = ["--set", "pretrain_episodes=24", "--set", "num_envs=8", "--set", "learning_starts=64", "--set", "log_every=8",
-        "--set", "checkpoint_every=8", "--set", "batch_size=16", "--set", "update_every=4", "--quiet"]
+TINY = [
+    "--set",
+    "pretrain_episodes=24",
+    "--set",
+    "num_envs=8",
+    "--set",
+    "learning_starts=64",
+    "--set",
+    "log_every=8",
+    "--set",
+    "checkpoint_every=8",
+    "--set",
+    "batch_size=16",
+    "--set",
+    "update_every=4",
+    "--quiet",
+]
 
 
 def train(out: Path, episodes: int, *extra: str, agent: str = "hrl_grg") -> subprocess.CompletedProcess:
-    cmd = [sys.executable, "-m", "objsearch.cli", "train", "--agent", agent, "--episodes", str(episodes), "--seed", "3",
-           "--out", str(out), *TINY, *extra]
+    cmd = [
+        sys.executable,
+        "-m",
+        "objsearch.cli",
+        "train",
+        "--agent",
+        agent,
+        "--episodes",
+        str(episodes),
+        "--seed",
+        "3",
+        "--out",
+        str(out),
+        *TINY,
+        *extra,
+    ]
     env = dict(os.environ, OMP_NUM_THREADS="1")
     return subprocess.run(cmd, capture_output=True, text=True, env=env, timeout=300)
 
@@ -83,8 +112,12 @@ def test_trained_checkpoint_through_the_harness(runs, tmp_path):
     root = runs[0]
     tasks = tmp_path / "few.jsonl"
     tasks.write_text("\n".join((DATA_DIR / "tasks" / "unseen-goals.jsonl").read_text().splitlines()[:10]) + "\n")
-    config = EvalConfig(agent="hrl_grg", seeds=(1,), checkpoint=str(root / "straight"),
-                        suite_config={"maps": str(DATA_DIR / "test"), "tasks": str(tasks)})
+    config = EvalConfig(
+        agent="hrl_grg",
+        seeds=(1,),
+        checkpoint=str(root / "straight"),
+        suite_config={"maps": str(DATA_DIR / "test"), "tasks": str(tasks)},
+    )
     assert evaluate(config, progress=False)["splits"]["few"]["episodes"] == 10
 
 
@@ -93,14 +126,30 @@ def test_ctrl_c_checkpoints_and_exits_130(tmp_path):
     import time
 
     out = tmp_path / "interrupted"
-    cmd = [sys.executable, "-m", "objsearch.cli", "train", "--agent", "dqn", "--episodes", "100000", "--seed", "3",
-           "--out", str(out), *TINY]
-    proc = subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
-                            env=dict(os.environ, OMP_NUM_THREADS="1"))
+    cmd = [
+        sys.executable,
+        "-m",
+        "objsearch.cli",
+        "train",
+        "--agent",
+        "dqn",
+        "--episodes",
+        "100000",
+        "--seed",
+        "3",
+        "--out",
+        str(out),
+        *TINY,
+    ]
+    proc = subprocess.Popen(
+        cmd, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, env=dict(os.environ, OMP_NUM_THREADS="1")
+    )
     try:
         deadline = time.monotonic() + 120
         while not (out / "state.pt").exists():  # the first checkpoint: training is under way
-            assert proc.poll() is None and time.monotonic() < deadline, proc.stderr.read() if proc.poll() is not None else "timeout"
+            assert proc.poll() is None and time.monotonic() < deadline, (
+                proc.stderr.read() if proc.poll() is not None else "timeout"
+            )
             time.sleep(0.2)
         proc.send_signal(signal.SIGINT)
         _, stderr = proc.communicate(timeout=120)
@@ -114,13 +163,39 @@ def test_ctrl_c_checkpoints_and_exits_130(tmp_path):
 
 
 def test_house_training_cli_writes_a_checkpoint_that_resumes_and_evaluates(tmp_path, cache_dir):
-    tiny = ["--set", "pretrain_steps=1000", "--set", "num_envs=4", "--set", "log_every=500", "--set", "checkpoint_every=500",
-            "--set", "learning_starts=100", "--set", "update_every=8", "--quiet"]
+    tiny = [
+        "--set",
+        "pretrain_steps=1000",
+        "--set",
+        "num_envs=4",
+        "--set",
+        "log_every=500",
+        "--set",
+        "checkpoint_every=500",
+        "--set",
+        "learning_starts=100",
+        "--set",
+        "update_every=8",
+        "--quiet",
+    ]
     env = dict(os.environ, OMP_NUM_THREADS="1", OBJSEARCH_CACHE=cache_dir)
 
     def house_train(steps: int):
-        cmd = [sys.executable, "-m", "objsearch.cli", "train", "--agent", "hrl_grg", "--suite", "house-single", "--steps",
-               str(steps), "--out", str(tmp_path / "run"), *tiny]
+        cmd = [
+            sys.executable,
+            "-m",
+            "objsearch.cli",
+            "train",
+            "--agent",
+            "hrl_grg",
+            "--suite",
+            "house-single",
+            "--steps",
+            str(steps),
+            "--out",
+            str(tmp_path / "run"),
+            *tiny,
+        ]
         return subprocess.run(cmd, capture_output=True, text=True, env=env, timeout=300)
 
     first = house_train(1000)
@@ -134,9 +209,37 @@ def test_house_training_cli_writes_a_checkpoint_that_resumes_and_evaluates(tmp_p
     assert second.returncode == 0, second.stderr
     rows = list(csv.DictReader(open(run / "log.csv")))
     assert [int(r["env_steps"]) for r in rows] == [500, 1000, 1500, 2000]
-    wrong = subprocess.run([sys.executable, "-m", "objsearch.cli", "train", "--agent", "hrl_grg", "--suite", "house-single",
-                            "--episodes", "5", "--out", str(tmp_path / "x"), "--quiet"], capture_output=True, text=True, env=env)
+    wrong = subprocess.run(
+        [
+            sys.executable,
+            "-m",
+            "objsearch.cli",
+            "train",
+            "--agent",
+            "hrl_grg",
+            "--suite",
+            "house-single",
+            "--episodes",
+            "5",
+            "--out",
+            str(tmp_path / "x"),
+            "--quiet",
+        ],
+        capture_output=True,
+        text=True,
+        env=env,
+    )
     assert wrong.returncode == 2 and "pass --steps" in wrong.stderr
-    results = evaluate(EvalConfig(agent="hrl_grg", suite="house-single", splits=("seen-goals",), seeds=(1,), checkpoint=str(run),
-                                  suite_config={"mode": "cached", "cache_dir": cache_dir, "max_steps": 20}), progress=False, batch=16)
+    results = evaluate(
+        EvalConfig(
+            agent="hrl_grg",
+            suite="house-single",
+            splits=("seen-goals",),
+            seeds=(1,),
+            checkpoint=str(run),
+            suite_config={"mode": "cached", "cache_dir": cache_dir, "max_steps": 20},
+        ),
+        progress=False,
+        batch=16,
+    )
     assert not any("error" in r for r in results["episodes"])

@@ -6,8 +6,9 @@ from objsearch.eval import agent_io
 
 
 def test_the_docs_section_is_what_the_envs_render():
-    assert agent_io.doc_section(agent_io.DOC.read_text()) == agent_io.render(), \
+    assert agent_io.doc_section(agent_io.DOC.read_text()) == agent_io.render(), (
         f"docs/add_your_agent.md is stale: run {agent_io.COMMAND}"
+    )
 
 
 def test_the_section_names_every_action_and_observation_key():
@@ -24,4 +25,3 @@ def test_check_fails_on_a_stale_doc(tmp_path, monkeypatch, capsys):
     assert f"stale; run {agent_io.COMMAND}" in capsys.readouterr().err
     assert main(["data", "rebuild", "agent-io-doc"]) == 0 and main(["data", "rebuild", "agent-io-doc", "--check"]) == 0
     assert stale.read_text() == agent_io.DOC.read_text().replace("| 0 | north |", "| 0 | up |")
-

@@ -49,11 +49,14 @@ def test_an_agent_file_given_by_an_absolute_path_runs_from_anywhere(agent_folder
     assert "1.00" in out.stdout
 
 
-@pytest.mark.parametrize("spec, message", [
-    ("./missing.py:MyAgent", "no file"),
-    ("./my_agent.py:Missing", "has no attribute 'Missing'"),
-    ("nopkg.mymodule:MyAgent", "no module named 'nopkg.mymodule', neither installed nor in"),
-])
+@pytest.mark.parametrize(
+    "spec, message",
+    [
+        ("./missing.py:MyAgent", "no file"),
+        ("./my_agent.py:Missing", "has no attribute 'Missing'"),
+        ("nopkg.mymodule:MyAgent", "no module named 'nopkg.mymodule', neither installed nor in"),
+    ],
+)
 def test_a_missing_agent_is_one_line_and_exit_2(agent_folder, spec, message):
     out = evaluate_cli(agent_folder, "--agent", spec, *ONE_SPLIT)
     assert out.returncode == 2 and message in out.stderr, out.stderr

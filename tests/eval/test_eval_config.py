@@ -29,9 +29,17 @@ FILLED_IN = {"splits", "suite_config", "weights_sha256"}
 
 
 def a_config_unlike_the_defaults(checkpoint) -> ConfigWithANewField:
-    values = dict(agent="test_eval_config:LoadingOracle", suite="gridworld", splits=("unseen-goals",), seeds=(5,),
-                  checkpoint=str(checkpoint), suite_config={"max_steps": 77}, step_time_limit=3.5,
-                  weights_sha256="a stale digest", new_field="kept")
+    values = dict(
+        agent="test_eval_config:LoadingOracle",
+        suite="gridworld",
+        splits=("unseen-goals",),
+        seeds=(5,),
+        checkpoint=str(checkpoint),
+        suite_config={"max_steps": 77},
+        step_time_limit=3.5,
+        weights_sha256="a stale digest",
+        new_field="kept",
+    )
     config = ConfigWithANewField(**values)
     defaults = ConfigWithANewField(agent="x")
     for f in dataclasses.fields(ConfigWithANewField):
@@ -47,7 +55,9 @@ def test_every_field_survives_evaluate(tmp_path, monkeypatch):
     config = a_config_unlike_the_defaults(checkpoint)
     ran = []
     real_run_units = runner.run_units
-    monkeypatch.setattr(runner, "run_units", lambda c, *args, **kwargs: ran.append(c) or real_run_units(c, *args, **kwargs))
+    monkeypatch.setattr(
+        runner, "run_units", lambda c, *args, **kwargs: ran.append(c) or real_run_units(c, *args, **kwargs)
+    )
 
     results = evaluate(config, progress=False, out=tmp_path / "results.json")
 

@@ -49,8 +49,11 @@ def test_slots_show_each_slot_what_its_own_env_would():
             assert np.array_equal(a[i][0]["image"], b[i][0]["image"]) and a[i][0]["goal"] == b[i][0]["goal"]
             assert a[i][1] == b[i][1]
             playing[i] = True
-        actions = {i: OddActionsAgent.ODD[rng.integers(10)] if rng.random() < 0.2 else int(rng.integers(4))
-                   for i in playing if rng.random() < 0.8}
+        actions = {
+            i: OddActionsAgent.ODD[rng.integers(10)] if rng.random() < 0.2 else int(rng.integers(4))
+            for i in playing
+            if rng.random() < 0.8
+        }
         for i, action in actions.items():
             assert fast.valid(i, action) == envs.valid(i, action), action
         actions = {i: x for i, x in actions.items() if envs.valid(i, x)}
@@ -72,7 +75,9 @@ def test_lockstep_on_the_slots_gives_the_sequential_records(agent):
     episodes = {split: suite.episodes(split) for split in ("unseen-goals", "all-goals")}
     units = [(split, seed, e.episode_id) for split in episodes for seed in (1, 5) for e in episodes[split]]
     env = suite.make_env()
-    sequential = [run_episode(agent(), env, suite.name, split, episodes[split][ep], seed, None) for split, seed, ep in units]
+    sequential = [
+        run_episode(agent(), env, suite.name, split, episodes[split][ep], seed, None) for split, seed, ep in units
+    ]
     assert any("invalid action" in r.get("error", "") for r in sequential) == (agent is OddActionsAgent)
     for n in (1, 7, 64):
         records = list(play_lockstep(units, suite.make_slots(n), agent, lambda s, e: episodes[s][e], suite.name, None))
@@ -88,7 +93,9 @@ def test_fast_task_reading_and_oracle_paths_are_the_reference_ones(tmp_path):
         assert [e.task for e in episodes] == dataset.split_tasks(split)
         for e in episodes:
             grid_map, task = maps[e.task.map], e.task
-            assert e.privileged.shortest_path() == shortest_path_actions(grid_map.obstacles, task.start, tuple(grid_map.goals[task.goal]))
+            assert e.privileged.shortest_path() == shortest_path_actions(
+                grid_map.obstacles, task.start, tuple(grid_map.goals[task.goal])
+            )
     # a user's task file: the same tasks; a bad line still gets load_tasks' message
     lines = (dataset.DATA_DIR / "tasks" / "all-goals.jsonl").read_text().splitlines()
     good = tmp_path / "mine.jsonl"

@@ -44,12 +44,15 @@ def test_a_line_that_is_not_a_record_is_dropped_with_a_warning_and_the_run_resum
     assert not partial.exists() and json.loads(out.read_text()) == results
 
 
-@pytest.mark.parametrize("change, named", [
-    ({"agent": "random"}, "agent: 'oracle' there, 'random' now"),
-    ({"seeds": (1, 5)}, "seeds: [1] there, [1, 5] now"),
-    ({"splits": ("all-goals",)}, "splits: ['unseen-goals'] there, ['all-goals'] now"),
-    ({"suite_config": {"max_steps": 50}}, "suite_config.max_steps: 100 there, 50 now"),
-])
+@pytest.mark.parametrize(
+    "change, named",
+    [
+        ({"agent": "random"}, "agent: 'oracle' there, 'random' now"),
+        ({"seeds": (1, 5)}, "seeds: [1] there, [1, 5] now"),
+        ({"splits": ("all-goals",)}, "splits: ['unseen-goals'] there, ['all-goals'] now"),
+        ({"suite_config": {"max_steps": 50}}, "suite_config.max_steps: 100 there, 50 now"),
+    ],
+)
 def test_the_mismatch_message_names_the_setting_that_differs(tmp_path, change, named):
     out = interrupted_run(tmp_path)
     other = EvalConfig(**{**CONFIG.__dict__, **change})
@@ -76,7 +79,9 @@ def assert_refused_at_once(out, *words):
 
 
 def test_an_out_that_is_a_folder_is_refused_before_the_first_episode(tmp_path):
-    out = run_cli("objsearch-eval", "--agent", "oracle", "--suite", "gridworld", "--seeds", "1", "--quiet", "--out", str(tmp_path))
+    out = run_cli(
+        "objsearch-eval", "--agent", "oracle", "--suite", "gridworld", "--seeds", "1", "--quiet", "--out", str(tmp_path)
+    )
     assert_refused_at_once(out, "--out", "is a folder", "results.json")
 
 
@@ -88,8 +93,18 @@ def test_an_unwritable_out_is_refused_before_the_first_episode(tmp_path, place):
     if place == "chmod":
         locked = tmp_path / "locked"
         locked.mkdir(mode=0o500)
-    out = run_cli("objsearch-eval", "--agent", "oracle", "--suite", "gridworld", "--seeds", "1", "--quiet",
-                  "--out", str(locked / "sub" / "r.json"))
+    out = run_cli(
+        "objsearch-eval",
+        "--agent",
+        "oracle",
+        "--suite",
+        "gridworld",
+        "--seeds",
+        "1",
+        "--quiet",
+        "--out",
+        str(locked / "sub" / "r.json"),
+    )
     assert_refused_at_once(out, "--out", "cannot write in", "choose a place you can write to")
     generate = run_cli("objsearch", "generate", "--out", str(locked / "houses"), "--quiet")
     assert generate.returncode == 2 and "cannot write in" in generate.stderr, generate.stderr

@@ -17,7 +17,9 @@ def test_batched_agents_are_recognised_and_overrides_are_not_lost():
     assert not is_batched(RaisingAgent()) and not is_batched(BadActionAgent())
 
 
-@pytest.mark.parametrize("agent", ["random", "oracle", "agents_for_tests:RaisingAgent", "agents_for_tests:BadActionAgent"])
+@pytest.mark.parametrize(
+    "agent", ["random", "oracle", "agents_for_tests:RaisingAgent", "agents_for_tests:BadActionAgent"]
+)
 def test_batch_sizes_give_identical_records(agent):
     config = EvalConfig(agent=agent, splits=("unseen-goals",), seeds=(1, 5))
     one = evaluate(config, progress=False, batch=1)

@@ -6,7 +6,14 @@ from objsearch.eval.metrics import average_steps, bootstrap_ci, episode_spl, spl
 
 
 def rec(success, steps, min_steps, seed=1, episode_id=0, goal="g0"):
-    return {"success": success, "steps": steps, "min_steps": min_steps, "seed": seed, "episode_id": episode_id, "goal": goal}
+    return {
+        "success": success,
+        "steps": steps,
+        "min_steps": min_steps,
+        "seed": seed,
+        "episode_id": episode_id,
+        "goal": goal,
+    }
 
 
 def test_episode_spl_hand_computed():

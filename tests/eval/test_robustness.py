@@ -3,8 +3,8 @@
 import json
 
 import pytest
-
 from agents_for_tests import InterruptedAgent
+
 from objsearch.errors import UserError
 from objsearch.eval.runner import EvalConfig, evaluate
 

@@ -39,7 +39,16 @@ def test_workers_give_identical_results():
 
 def test_results_carry_provenance():
     results = evaluate(EvalConfig(agent="oracle", splits=("all-goals",), seeds=(1,)), progress=False)
-    for key in ("schema_version", "agent", "suite", "episode_set_version", "objsearch_version", "git_commit", "seeds", "config"):
+    for key in (
+        "schema_version",
+        "agent",
+        "suite",
+        "episode_set_version",
+        "objsearch_version",
+        "git_commit",
+        "seeds",
+        "config",
+    ):
         assert key in results
     assert results["episode_set_version"] == dataset.DATA_VERSION
     assert results["config"]["splits"] == ["all-goals"]
@@ -61,7 +70,9 @@ def test_custom_maps_and_tasks(tmp_path):
     tasks = [t for t in dataset.split_tasks("all-goals") if t.map == "map_0100"][:3]
     save_tasks(tasks, tmp_path / "my-tasks.jsonl")
     config = EvalConfig(
-        agent="oracle", seeds=(1,), suite_config={"maps": str(tmp_path / "maps"), "tasks": str(tmp_path / "my-tasks.jsonl")}
+        agent="oracle",
+        seeds=(1,),
+        suite_config={"maps": str(tmp_path / "maps"), "tasks": str(tmp_path / "my-tasks.jsonl")},
     )
     results = evaluate(config, progress=False)
     assert list(results["splits"]) == ["my-tasks"]

@@ -29,11 +29,38 @@ def made(tmp_path_factory, cache_dir):
     """``work/houses/`` (two small houses, as objsearch generate writes them) and
     ``work/my-suite.json`` made from them."""
     work = tmp_path_factory.mktemp("own-houses")
-    out = run("objsearch", "generate", "--seed", "3", "--num", "2", "--rooms", "small", "--no-preview", "--quiet",
-              "--out", "houses", cwd=work)
+    out = run(
+        "objsearch",
+        "generate",
+        "--seed",
+        "3",
+        "--num",
+        "2",
+        "--rooms",
+        "small",
+        "--no-preview",
+        "--quiet",
+        "--out",
+        "houses",
+        cwd=work,
+    )
     assert out.returncode == 0, out.stderr
-    out = run("objsearch", "suite", "make", "--houses", "houses", "--out", "my-suite.json", "--episodes", "20",
-              "--seed", "1", "--cache-dir", cache_dir, cwd=work)
+    out = run(
+        "objsearch",
+        "suite",
+        "make",
+        "--houses",
+        "houses",
+        "--out",
+        "my-suite.json",
+        "--episodes",
+        "20",
+        "--seed",
+        "1",
+        "--cache-dir",
+        cache_dir,
+        cwd=work,
+    )
     assert out.returncode == 0, out.stderr
     assert "objsearch-eval --suite my-suite.json" in out.stderr
     return work
@@ -54,7 +81,8 @@ def test_the_suite_file_is_made_as_the_shipped_ones_and_is_deterministic(made, c
         assert raw[key] == shipped[key], key
     assert raw["version"].startswith("custom:") and raw["training_houses"] == {}
     assert raw["houses"] == {
-        hid: {"path": f"houses/{hid}", "spec_sha256": raw["houses"][hid]["spec_sha256"]} for hid in ("train_000003", "train_000004")
+        hid: {"path": f"houses/{hid}", "spec_sha256": raw["houses"][hid]["spec_sha256"]}
+        for hid in ("train_000003", "train_000004")
     }
     targets = raw["categories"]["targets"]
     assert targets and set(targets) <= set(TARGETS) and targets == sorted(targets)
@@ -78,16 +106,34 @@ def test_the_suite_file_is_made_as_the_shipped_ones_and_is_deterministic(made, c
     args = ["--houses", "houses", "--episodes", "20", "--cache-dir", cache_dir]
     assert run("objsearch", "suite", "make", *args, "--seed", "1", "--out", "my-suite.json", cwd=made).returncode == 0
     assert path.read_bytes() == before  # the same houses, seed and paths: the same bytes
-    other = run("objsearch", "suite", "make", *args, "--seed", "2", "--targets", "bed,sofa", "--out", "other.json", cwd=made)
+    other = run(
+        "objsearch", "suite", "make", *args, "--seed", "2", "--targets", "bed,sofa", "--out", "other.json", cwd=made
+    )
     assert other.returncode == 0, other.stderr
     other = json.loads((made / "other.json").read_text())
-    assert other["categories"] == {"targets": ["bed", "sofa"]} and {t for g in other["goals"].values() for t in g} <= {"bed", "sofa"}
+    assert other["categories"] == {"targets": ["bed", "sofa"]} and {t for g in other["goals"].values() for t in g} <= {
+        "bed",
+        "sofa",
+    }
     assert other["version"] != raw["version"]
 
 
 def test_oracle_is_perfect_on_the_made_suite_and_random_is_not(made, cache_dir, tmp_path):
-    out = run("objsearch-eval", "--agent", "oracle", "--suite", "my-suite.json", "--seeds", "1", "--cache-dir", cache_dir,
-              "--out", str(tmp_path / "r.json"), "--quiet", cwd=made)
+    out = run(
+        "objsearch-eval",
+        "--agent",
+        "oracle",
+        "--suite",
+        "my-suite.json",
+        "--seeds",
+        "1",
+        "--cache-dir",
+        cache_dir,
+        "--out",
+        str(tmp_path / "r.json"),
+        "--quiet",
+        cwd=made,
+    )
     assert out.returncode == 0, out.stderr
     results = json.loads((tmp_path / "r.json").read_text())
     assert results["suite"] == "my-suite.json" and results["episode_set_version"].startswith("custom:")
@@ -98,8 +144,18 @@ def test_oracle_is_perfect_on_the_made_suite_and_random_is_not(made, cache_dir, 
     moved = tmp_path / "elsewhere"
     shutil.copytree(made / "houses", moved / "houses")
     shutil.copy(made / "my-suite.json", moved / "my-suite.json")
-    out = run("objsearch-eval", "--agent", "random", "--suite", str(moved / "my-suite.json"), "--seeds", "1",
-              "--cache-dir", cache_dir, "--quiet")
+    out = run(
+        "objsearch-eval",
+        "--agent",
+        "random",
+        "--suite",
+        str(moved / "my-suite.json"),
+        "--seeds",
+        "1",
+        "--cache-dir",
+        cache_dir,
+        "--quiet",
+    )
     assert out.returncode == 0, out.stderr
     assert "My Suite" in out.stdout
 
@@ -123,18 +179,23 @@ def _spoil(folder: Path, how: str) -> None:
         (house / "spec.json").write_text(json.dumps(spec))
 
 
-@pytest.mark.parametrize("how, message", [
-    ("missing folder", "is missing"),
-    ("changed spec.json", "changed after the suite was made"),
-    ("edited house.xml", "no longer matches its house.xml"),
-    ("broken house.xml", "cannot load house"),
-    ("spec.json missing a field", "is not a house spec"),
-])
+@pytest.mark.parametrize(
+    "how, message",
+    [
+        ("missing folder", "is missing"),
+        ("changed spec.json", "changed after the suite was made"),
+        ("edited house.xml", "no longer matches its house.xml"),
+        ("broken house.xml", "cannot load house"),
+        ("spec.json missing a field", "is not a house spec"),
+    ],
+)
 def test_a_bad_house_stops_the_evaluation_naming_it(made, tmp_path, how, message):
     shutil.copytree(made / "houses", tmp_path / "houses")
     shutil.copy(made / "my-suite.json", tmp_path / "my-suite.json")
     _spoil(tmp_path, how)
-    out = run("objsearch-eval", "--agent", "oracle", "--suite", "my-suite.json", "--seeds", "1", "--quiet", cwd=tmp_path)
+    out = run(
+        "objsearch-eval", "--agent", "oracle", "--suite", "my-suite.json", "--seeds", "1", "--quiet", cwd=tmp_path
+    )
     assert_clean_error(out, "house train_000004", message)
 
 
@@ -147,7 +208,14 @@ def test_bad_houses_and_arguments_stop_suite_make_naming_them(made, tmp_path):
     assert_clean_error(run(*make, "--houses", "nowhere", cwd=tmp_path), "houses folder nowhere does not exist")
     (tmp_path / "empty").mkdir()
     assert_clean_error(run(*make, "--houses", "empty", cwd=tmp_path), "no houses under empty")
-    assert_clean_error(run(*make, "--houses", str(made / "houses"), "--targets", "bedd", cwd=tmp_path),
-                       "unknown target category 'bedd'", "did you mean 'bed'")
-    assert_clean_error(run("objsearch", "suite", "make", "--houses", "houses", "--out", "s.txt", cwd=tmp_path), "ends in .json")
-    assert_clean_error(run("objsearch-eval", "--suite", "none.json", cwd=tmp_path), "suite file none.json does not exist")
+    assert_clean_error(
+        run(*make, "--houses", str(made / "houses"), "--targets", "bedd", cwd=tmp_path),
+        "unknown target category 'bedd'",
+        "did you mean 'bed'",
+    )
+    assert_clean_error(
+        run("objsearch", "suite", "make", "--houses", "houses", "--out", "s.txt", cwd=tmp_path), "ends in .json"
+    )
+    assert_clean_error(
+        run("objsearch-eval", "--suite", "none.json", cwd=tmp_path), "suite file none.json does not exist"
+    )

@@ -29,7 +29,9 @@ def test_declared_options_are_the_constructor_arguments(name):
 
 
 def test_an_option_the_suite_lacks_is_refused_naming_the_suites_that_take_it():
-    with pytest.raises(UserError, match="suite 'gridworld' takes no option 'mode'.*house-single, house-multi, house-gen"):
+    with pytest.raises(
+        UserError, match="suite 'gridworld' takes no option 'mode'.*house-single, house-multi, house-gen"
+    ):
         make_suite("gridworld", mode="live")
     assert suites_taking("maps") == ["gridworld"]
     assert suites_taking("max_steps") == [*SUITES, "suite files (.json)"]
@@ -55,6 +57,7 @@ def test_suite_rebuild_writes_the_builders_file_where_the_harness_reads_it(monke
 
 
 def test_the_old_module_entry_points_to_the_rebuild_subcommand():
-    out = subprocess.run([sys.executable, "-m", "objsearch.sim.suites", "house-single"], capture_output=True, text=True,
-                         timeout=120)
+    out = subprocess.run(
+        [sys.executable, "-m", "objsearch.sim.suites", "house-single"], capture_output=True, text=True, timeout=120
+    )
     assert out.returncode == 1 and "objsearch suite rebuild NAME" in out.stderr

@@ -10,5 +10,9 @@ def test_only_the_first_episodes_of_each_split_get_videos_and_the_records_do_not
     filmed = evaluate(config, progress=False, batch=8, video_dir=str(tmp_path), video_episodes=2)
     assert filmed == plain
     names = {p.name for p in tmp_path.iterdir()}
-    assert names == {f"{split}_seed5_ep{i:04d}.{ext}" for split in ("seen-goals", "unseen-goals") for i in (0, 1)
-                     for ext in ("png", "mp4")}
+    assert names == {
+        f"{split}_seed5_ep{i:04d}.{ext}"
+        for split in ("seen-goals", "unseen-goals")
+        for i in (0, 1)
+        for ext in ("png", "mp4")
+    }

@@ -56,9 +56,24 @@ def wait_for(condition, seconds: float) -> bool:
 @pytest.mark.parametrize("sig", [signal.SIGKILL, signal.SIGINT])
 def test_workers_die_with_the_evaluation(tmp_path, sig):
     (tmp_path / "slow_agent.py").write_text(SLOW_AGENT)
-    parent = subprocess.Popen([str(BIN / "objsearch-eval"), "--agent", "./slow_agent.py:SlowAgent", "--suite", "gridworld",
-                               "--workers", "2", "--quiet", "--out", "r.json"],
-                              cwd=tmp_path, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True)
+    parent = subprocess.Popen(
+        [
+            str(BIN / "objsearch-eval"),
+            "--agent",
+            "./slow_agent.py:SlowAgent",
+            "--suite",
+            "gridworld",
+            "--workers",
+            "2",
+            "--quiet",
+            "--out",
+            "r.json",
+        ],
+        cwd=tmp_path,
+        stdout=subprocess.DEVNULL,
+        stderr=subprocess.PIPE,
+        text=True,
+    )
     try:
         partial = tmp_path / "r.json.partial.jsonl"
         workers = lambda: [p for p in children(parent.pid) if "spawn_main" in Path(f"/proc/{p}/cmdline").read_text()]

@@ -69,10 +69,19 @@ def test_batched_equals_independent_single_envs(tables, observation, autoreset):
     same tasks, and against episodes played straight from the maps (``Reference``)."""
     maps = list(dataset.test_maps().values())
     n, max_steps = 8, 12
-    world = BatchedGridWorld(tables, n, goals=None, observation=observation, max_steps=max_steps,
-                             autoreset=autoreset, rng=np.random.default_rng(0))
+    world = BatchedGridWorld(
+        tables,
+        n,
+        goals=None,
+        observation=observation,
+        max_steps=max_steps,
+        autoreset=autoreset,
+        rng=np.random.default_rng(0),
+    )
     own_tables = GridTables.build(maps)  # not the batch's: nothing shared but the maps
-    singles = [GridWorldEnv(maps=own_tables, goals=None, observation=observation, max_steps=max_steps) for _ in range(n)]
+    singles = [
+        GridWorldEnv(maps=own_tables, goals=None, observation=observation, max_steps=max_steps) for _ in range(n)
+    ]
     refs = [None] * n
     task_rng, act_rng = np.random.default_rng(1), np.random.default_rng(2)
 

@@ -10,7 +10,9 @@ from objsearch.gridworld.batched import BatchedGridWorld, GridTables
 def test_subset_calls_are_the_rows_of_whole_batch_calls():
     tables = GridTables.build(list(dataset.test_maps().values()))
     n = 12
-    whole = BatchedGridWorld(tables, n, observation="all_goals", max_steps=9, autoreset=False, rng=np.random.default_rng(0))
+    whole = BatchedGridWorld(
+        tables, n, observation="all_goals", max_steps=9, autoreset=False, rng=np.random.default_rng(0)
+    )
     part = BatchedGridWorld(tables, n, observation="all_goals", max_steps=9, autoreset=False)
     maps, goals, starts = whole.sample_tasks(n)
     obs = whole.reset(maps=maps, goals=goals, starts=starts)
@@ -24,7 +26,9 @@ def test_subset_calls_are_the_rows_of_whole_batch_calls():
         before = (part.cell.copy(), part.steps.copy())
         o, r, term, trunc, info = part.step_envs(moving, actions[moving])
         still = np.setdiff1d(np.arange(n), moving)
-        assert np.array_equal(part.cell[still], before[0][still]) and np.array_equal(part.steps[still], before[1][still])
+        assert np.array_equal(part.cell[still], before[0][still]) and np.array_equal(
+            part.steps[still], before[1][still]
+        )
         # the same envs, stepped one by one through whole-batch calls of a copy
         ref = BatchedGridWorld(tables, n, observation="all_goals", max_steps=9, autoreset=False)
         ref.reset(maps=part.map_idx, goals=part.goal, starts=before[0])
@@ -32,7 +36,11 @@ def test_subset_calls_are_the_rows_of_whole_batch_calls():
         ref.min_steps[:] = part.min_steps
         wo, wr, wterm, wtrunc, winfo = ref.step(np.where(np.isin(np.arange(n), moving), actions, 0))
         assert np.array_equal(o["image"], wo["image"][moving]) and np.array_equal(o["goal"], wo["goal"][moving])
-        assert np.array_equal(r, wr[moving]) and np.array_equal(term, wterm[moving]) and np.array_equal(trunc, wtrunc[moving])
+        assert (
+            np.array_equal(r, wr[moving])
+            and np.array_equal(term, wterm[moving])
+            and np.array_equal(trunc, wtrunc[moving])
+        )
         for key in ("success", "steps", "min_steps"):
             assert np.array_equal(info[key], winfo[key][moving])
         assert np.array_equal(part.observe(moving)["image"], o["image"])

@@ -19,7 +19,9 @@ def test_generator_reproduces_the_shipped_benchmark(tmp_path, capsys):
     for rel in files(dataset.DATA_DIR):
         assert (tmp_path / rel).read_bytes() == (dataset.DATA_DIR / rel).read_bytes(), rel
     for split in ("train", "test"):
-        assert len(list((tmp_path / split).glob("*.npz"))) == (dataset.NUM_TRAIN_MAPS if split == "train" else dataset.NUM_TEST_MAPS)
+        assert len(list((tmp_path / split).glob("*.npz"))) == (
+            dataset.NUM_TRAIN_MAPS if split == "train" else dataset.NUM_TEST_MAPS
+        )
     assert {p.stem for p in (tmp_path / "tasks").glob("*.jsonl")} == set(dataset.SPLIT_GOALS)
     meta = json.loads((dataset.DATA_DIR / "VERSION.json").read_text())
     assert meta["version"] == dataset.DATA_VERSION

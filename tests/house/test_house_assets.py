@@ -39,6 +39,8 @@ def test_asset_build_is_deterministic(tmp_path, capsys):
     for path in sorted((tmp_path / "meshes").rglob("*")):
         if path.is_file():
             rel = path.relative_to(tmp_path)
-            assert path.read_bytes() == (assets.assets_dir() / rel).read_bytes(), f"{rel} differs: rebuild with objsearch data rebuild assets"
+            assert path.read_bytes() == (assets.assets_dir() / rel).read_bytes(), (
+                f"{rel} differs: rebuild with objsearch data rebuild assets"
+            )
     total = sum(p.stat().st_size for p in (assets.assets_dir() / "meshes").rglob("*") if p.is_file())
     assert total < 5_000_000

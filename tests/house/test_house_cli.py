@@ -12,8 +12,13 @@ ENV = {**os.environ, "MUJOCO_GL": os.environ.get("MUJOCO_GL", "egl")}
 
 
 def test_generate_writes_houses(tmp_path):
-    r = subprocess.run(CMD + ["--seed", "11", "--num", "2", "--out", str(tmp_path), "--rooms", "small", "--quiet"],
-                       capture_output=True, text=True, env=ENV, timeout=120)
+    r = subprocess.run(
+        CMD + ["--seed", "11", "--num", "2", "--out", str(tmp_path), "--rooms", "small", "--quiet"],
+        capture_output=True,
+        text=True,
+        env=ENV,
+        timeout=120,
+    )
     assert r.returncode == 0, r.stderr
     for hid in ("train_000011", "train_000012"):
         d = tmp_path / hid

@@ -20,5 +20,9 @@ _spec.loader.exec_module(make_golden)
 def test_golden_spec(seed):
     expected = make_golden.golden_path(seed).read_text()
     actual = generate_house(seed).spec.to_json_text()
-    assert f'"generator_version": "{HOUSE_GENERATOR_VERSION}"' in expected, "version bumped: regenerate the golden specs"
-    assert actual == expected, "generator output changed: if intended, bump HOUSE_GENERATOR_VERSION and run tests/house/make_golden.py"
+    assert f'"generator_version": "{HOUSE_GENERATOR_VERSION}"' in expected, (
+        "version bumped: regenerate the golden specs"
+    )
+    assert actual == expected, (
+        "generator output changed: if intended, bump HOUSE_GENERATOR_VERSION and run tests/house/make_golden.py"
+    )

@@ -113,7 +113,10 @@ def test_functional_groups(houses):
                 assert _points_at(o, table), (h.spec.house_id, o.name)
             if o.category == "mirror" and o.group:  # mirror above the bathroom sink
                 sink = next(s for s in by_group[o.group] if s.category == "sink")
-                assert abs(o.position[0] - sink.position[0]) + abs(o.position[1] - sink.position[1]) < sink.size[1] / 2 + 0.1
+                assert (
+                    abs(o.position[0] - sink.position[0]) + abs(o.position[1] - sink.position[1])
+                    < sink.size[1] / 2 + 0.1
+                )
                 assert o.position[2] >= sink.position[2] + sink.size[2]
             if o.category == "office_chair":
                 desk = next(t for t in by_group[o.group] if t.category == "desk")

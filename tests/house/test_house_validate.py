@@ -13,7 +13,9 @@ from objsearch.house.validate import check_interpenetration, validate_house
 def test_overlapping_object_is_reported():
     spec = generate_house(3).spec
     sofa = next(o for o in spec.objects if o.category == "sofa")
-    other = next(o for o in spec.objects if o.room == sofa.room and o.placement in ("wall", "corner") and o.name != sofa.name)
+    other = next(
+        o for o in spec.objects if o.room == sofa.room and o.placement in ("wall", "corner") and o.name != sofa.name
+    )
     moved = dataclasses.replace(other, position=sofa.position)
     bad = dataclasses.replace(spec, objects=tuple(moved if o is other else o for o in spec.objects))
     assert any(f"{other.name} intersects" in p or f"intersects {other.name}" in p for p in check_interpenetration(bad))
@@ -25,7 +27,9 @@ def test_object_in_a_wall_is_reported():
     wall = spec.walls[0]
     x = (wall.box[0] + wall.box[2]) / 2
     y = (wall.box[1] + wall.box[3]) / 2
-    bad = dataclasses.replace(spec, objects=tuple(dataclasses.replace(o, position=(x, y, 0.0)) if o is obj else o for o in spec.objects))
+    bad = dataclasses.replace(
+        spec, objects=tuple(dataclasses.replace(o, position=(x, y, 0.0)) if o is obj else o for o in spec.objects)
+    )
     assert f"{obj.name} intersects a wall" in check_interpenetration(bad)
 
 

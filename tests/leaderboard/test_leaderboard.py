@@ -38,10 +38,15 @@ def tampered(results, change):
         (lambda r: r["episodes"].append(dict(r["episodes"][0])), "1 duplicated episode(s)"),
         (lambda r: r["splits"]["unseen-goals"].update(sr=0.99), "summary (sr) differs"),
         (lambda r: r["episodes"][0].update(min_steps=1), "does not match the suite's episode"),
-        (lambda r: next(e for e in r["episodes"] if e["success"] and e["min_steps"] > 1).update(steps=1, spl=1.0), "fewer than the minimal"),
+        (
+            lambda r: next(e for e in r["episodes"] if e["success"] and e["min_steps"] > 1).update(steps=1, spl=1.0),
+            "fewer than the minimal",
+        ),
         (lambda r: r.pop("config"), "missing field(s) config"),
-        (lambda r: [e.update(error="KeyError: 'image'", success=False, spl=0.0) for e in r["episodes"][:5]],
-         "5 episode(s) ended in an agent error, e.g. unseen-goals/seed 1/0: KeyError: 'image'"),
+        (
+            lambda r: [e.update(error="KeyError: 'image'", success=False, spl=0.0) for e in r["episodes"][:5]],
+            "5 episode(s) ended in an agent error, e.g. unseen-goals/seed 1/0: KeyError: 'image'",
+        ),
     ],
 )
 def test_tampered_submissions_are_rejected(random_results, change, message):
@@ -65,14 +70,20 @@ def test_custom_task_files_do_not_go_on_the_leaderboard(tmp_path):
     save_map(dataset.test_maps()["map_0100"], tmp_path / "maps")
     save_tasks([t for t in dataset.split_tasks("all-goals") if t.map == "map_0100"][:2], tmp_path / "mine.jsonl")
     results = evaluate(
-        EvalConfig(agent="oracle", seeds=(1,), suite_config={"maps": str(tmp_path / "maps"), "tasks": str(tmp_path / "mine.jsonl")}),
+        EvalConfig(
+            agent="oracle",
+            seeds=(1,),
+            suite_config={"maps": str(tmp_path / "maps"), "tasks": str(tmp_path / "mine.jsonl")},
+        ),
         progress=False,
     )
     assert any("not a leaderboard episode set" in p for p in check_submission(results))
 
 
 def cli(*args, cwd):
-    return subprocess.run([str(BIN / "objsearch"), "leaderboard", *args], capture_output=True, text=True, cwd=cwd, timeout=300)
+    return subprocess.run(
+        [str(BIN / "objsearch"), "leaderboard", *args], capture_output=True, text=True, cwd=cwd, timeout=300
+    )
 
 
 def test_add_check_and_render_through_the_cli(tmp_path, full_oracle, full_random):
@@ -113,7 +124,10 @@ def test_pages_come_from_the_stored_submissions_alone(tmp_path, oracle_results):
     render(tmp_path)
     assert first == {p: (tmp_path / p).read_text() for p in pages}
     tables = first["paper_tables.md"]  # Tables 1 and 2: ours in bold, the paper's in brackets
-    assert "| Oracle | not run (1.00) | not run (1.00) | not run (11.81 / 11.81) | **1.00** (1.00) | **1.00** (1.00) |" in tables
+    assert (
+        "| Oracle | not run (1.00) | not run (1.00) | not run (11.81 / 11.81) | **1.00** (1.00) | **1.00** (1.00) |"
+        in tables
+    )
     assert "| HRL-GRG | not run (0.57) | not run (0.33) |" in tables
     # Table 3 (House3D): SR / SPL per suite split, a gt and a predicted row per learned method
     assert "| HRL-GRG | gt | not run (0.88 / 0.33) | not run (0.79 / 0.21) |" in tables
@@ -138,7 +152,9 @@ def test_the_repository_leaderboard_is_valid_and_up_to_date(tmp_path):
     shutil.copytree(board / "submissions", tmp_path / "submissions")
     render(tmp_path)
     for page in ("README.md", "index.html", "paper_tables.md"):
-        assert (tmp_path / page).read_text() == (board / page).read_text(), f"run: objsearch leaderboard render ({page})"
+        assert (tmp_path / page).read_text() == (board / page).read_text(), (
+            f"run: objsearch leaderboard render ({page})"
+        )
 
 
 def chromium() -> str | None:
@@ -157,10 +173,20 @@ def test_index_html_renders_the_rows_in_headless_chromium(tmp_path, oracle_resul
     (store / "oracle.json").write_text(json.dumps(oracle_results))
     (store / "random.json").write_text(json.dumps(random_results))
     render(tmp_path)
-    flags = ["--headless", "--no-sandbox", "--disable-gpu", "--disable-quic", "--no-first-run",
-             "--disable-background-networking", "--disable-component-update", "--disable-sync",
-             f"--user-data-dir={tmp_path / 'profile'}"]
-    out = subprocess.run([browser, *flags, "--dump-dom", (tmp_path / "index.html").as_uri()], capture_output=True, text=True, timeout=120)
+    flags = [
+        "--headless",
+        "--no-sandbox",
+        "--disable-gpu",
+        "--disable-quic",
+        "--no-first-run",
+        "--disable-background-networking",
+        "--disable-component-update",
+        "--disable-sync",
+        f"--user-data-dir={tmp_path / 'profile'}",
+    ]
+    out = subprocess.run(
+        [browser, *flags, "--dump-dom", (tmp_path / "index.html").as_uri()], capture_output=True, text=True, timeout=120
+    )
     dom = out.stdout
     assert dom.count('<section class="board"') == 1, out.stderr[-2000:]
     assert dom.count('<tr class="entry">') == 2

@@ -13,6 +13,6 @@ def test_the_template_has_one_placeholder_and_the_page_is_the_template_around_th
     page = render_html(tables)
     before, after = template.split(DATA_PLACEHOLDER)
     assert page.startswith(before) and page.endswith(after)
-    data = page[len(before): len(page) - len(after)]
+    data = page[len(before) : len(page) - len(after)]
     assert "</" not in data  # a name cannot end the script
     assert json.loads(data.replace("<\\/", "</"))["tables"] == tables

@@ -34,8 +34,12 @@ def one_error_line(err: str) -> str:
 def test_a_submission_covers_every_split_with_the_standard_seeds_unless_marked_partial(full_oracle, oracle_results):
     assert check_submission(full_oracle) == []
     (problem,) = check_submission(oracle_results)  # one split, seeds 1,5
-    assert "covers splits unseen-goals with seeds 1,5, not every split of gridworld (seen-goals, unseen-goals, " \
-           "all-goals) with seeds 1,5,13,45,99" in problem and "--partial" in problem
+    assert (
+        "covers splits unseen-goals with seeds 1,5, not every split of gridworld (seen-goals, unseen-goals, "
+        "all-goals) with seeds 1,5,13,45,99"
+        in problem
+        and "--partial" in problem
+    )
     assert check_submission(dict(oracle_results, partial=True)) == []
     (problem,) = check_submission(dict(full_oracle, partial=True))
     assert "is marked partial but covers every split" in problem
@@ -81,7 +85,10 @@ MUTATIONS = [
     (_first("min_steps"), "episodes[0] has no field 'min_steps'"),
     (lambda r: r["splits"].update({"unseen-goals": [0.5]}), "summary of split 'unseen-goals' is [0.5], not an object"),
     (lambda r: r["config"].update(suite_config=["maps"]), "config field 'suite_config' is ['maps'], not an object"),
-    (lambda r: r["config"].update(suite_config={"max_steps": "many"}), "suite configuration {'max_steps': 'many'} is not valid"),
+    (
+        lambda r: r["config"].update(suite_config={"max_steps": "many"}),
+        "suite configuration {'max_steps': 'many'} is not valid",
+    ),
     (lambda r: r.update(episode_set_version=7), "results field 'episode_set_version' is 7, not a string"),
     (lambda r: r.update(partial="yes"), "results field 'partial' is 'yes', not true or false"),
 ]
@@ -102,8 +109,13 @@ def test_the_installed_command_says_one_line_for_a_wrong_typed_field(tmp_path, o
     bad = dict(copy.deepcopy(oracle_results), partial=True)
     bad["episodes"][4]["seed"] = "five"
     (tmp_path / "bad.json").write_text(json.dumps(bad))
-    out = subprocess.run([str(BIN / "objsearch"), "leaderboard", "check", "bad.json"], capture_output=True, text=True,
-                         cwd=tmp_path, timeout=120)
+    out = subprocess.run(
+        [str(BIN / "objsearch"), "leaderboard", "check", "bad.json"],
+        capture_output=True,
+        text=True,
+        cwd=tmp_path,
+        timeout=120,
+    )
     assert out.returncode == 2 and "episodes[4] field 'seed' is 'five', not an integer" in one_error_line(out.stderr)
 
 
@@ -127,11 +139,18 @@ def test_add_refuses_a_folder_that_is_not_a_leaderboard(tmp_path, capsys, oracle
     line = one_error_line(err)
     assert code == 2 and f"{tmp_path / 'elsewhere'} is not a leaderboard folder (it has no submissions/ folder)" in line
     assert "--create" in line and not (tmp_path / "elsewhere").exists()
-    out = subprocess.run([str(BIN / "objsearch"), "leaderboard", "add", "oracle.json", "--partial"], capture_output=True,
-                         text=True, cwd=tmp_path, timeout=120)
+    out = subprocess.run(
+        [str(BIN / "objsearch"), "leaderboard", "add", "oracle.json", "--partial"],
+        capture_output=True,
+        text=True,
+        cwd=tmp_path,
+        timeout=120,
+    )
     assert out.returncode == 2 and "leaderboard is not a leaderboard folder" in out.stderr
     assert not (tmp_path / "leaderboard").exists()
-    assert run(capsys, "--dir", tmp_path / "elsewhere", "add", tmp_path / "oracle.json", "--partial", "--create")[0] == 0
+    assert (
+        run(capsys, "--dir", tmp_path / "elsewhere", "add", tmp_path / "oracle.json", "--partial", "--create")[0] == 0
+    )
     assert (tmp_path / "elsewhere/submissions/gridworld/oracle.json").is_file()
 
 
@@ -174,7 +193,9 @@ def test_a_self_consistent_fake_fails_verify(tmp_path, capsys, random_results):
     fake = copy.deepcopy(dict(random_results, partial=True))
     for r in fake["episodes"]:
         r.update(success=True, steps=r["min_steps"], spl=1.0)
-    fake["splits"] = {split: summarize([r for r in fake["episodes"] if r["split"] == split]) for split in fake["splits"]}
+    fake["splits"] = {
+        split: summarize([r for r in fake["episodes"] if r["split"] == split]) for split in fake["splits"]
+    }
     assert check_submission(fake) == []  # every check on its own content passes
     problems = verify_submission(fake, 4)
     assert problems and "in the submission but" in problems[0] and "when replayed with agent 'random'" in problems[0]

@@ -3,7 +3,13 @@ import pytest
 
 from objsearch.errors import UserError
 from objsearch.perception.dataset import (
-    EXTRA_TRAIN_SEED, load_split, read_manifest, read_shard, sample_pose_ids, split_houses, write_shard,
+    EXTRA_TRAIN_SEED,
+    load_split,
+    read_manifest,
+    read_shard,
+    sample_pose_ids,
+    split_houses,
+    write_shard,
 )
 from objsearch.perception.model import NUM_CLASSES
 

@@ -8,8 +8,8 @@ from objsearch.perception.inference import Predictor, save_checkpoint
 from objsearch.perception.model import ModelConfig, SegDepthNet
 from objsearch.perception.train import init_weights
 from objsearch.sim.cache import HouseCache, PredictedCache, quantize_depth
-from objsearch.sim.env import HouseEnv, HouseTask
 from objsearch.sim.camera import CameraMismatchError, RenderSettings
+from objsearch.sim.env import HouseEnv, HouseTask
 from objsearch.sim.world import HouseRef, World
 
 TINY_MODEL = ModelConfig(stem=16, mid=32, deep=48, aspp=32, aspp_rates=(2, 4), skip=16, decoder=32)  # trains in seconds
@@ -37,13 +37,15 @@ def _task(world: World) -> HouseTask:
     goal = graph.num_poses // 2
     dist = graph.shortest_steps([goal])
     start = int(np.flatnonzero(dist == 5)[0])
-    return HouseTask(house=world.house_id, start=graph.pose_of(start), target="sofa", goals=(graph.pose_of(goal),),
-                     min_steps=5)
+    return HouseTask(
+        house=world.house_id, start=graph.pose_of(start), target="sofa", goals=(graph.pose_of(goal),), min_steps=5
+    )
 
 
 def test_predicted_observations_are_the_networks_output(predictor, cache_dir):
-    env = HouseEnv([HOUSE], mode="cached", settings=CAMERA, cache_dir=cache_dir, observation="predicted",
-                   predictor=predictor)
+    env = HouseEnv(
+        [HOUSE], mode="cached", settings=CAMERA, cache_dir=cache_dir, observation="predicted", predictor=predictor
+    )
     world = env.world(World.load(HOUSE).house_id)
     task = _task(world)
     obs, _ = env.reset(options={"task": task})
@@ -81,20 +83,27 @@ def test_gt_stays_the_default_and_bad_arguments_are_refused(predictor):
     with pytest.raises(ValueError, match="observation must be one of"):
         HouseEnv([HOUSE], observation="learned", predictor=predictor)
     # the default camera is 64x64, the network's 32x32: one error, naming the checkpoint, both cameras and the fix
-    with pytest.raises(CameraMismatchError, match=r"model.pt was made for camera \[width=32 .*\[width=64 .*they differ in width, height"):
+    with pytest.raises(
+        CameraMismatchError,
+        match=r"model.pt was made for camera \[width=32 .*\[width=64 .*they differ in width, height",
+    ):
         HouseEnv([HOUSE], observation="predicted", predictor=predictor)
 
 
 def test_vector_env_reads_the_predicted_cache(predictor, cache_dir):
     from objsearch.sim.vector import HouseVectorEnv
 
-    envs = HouseVectorEnv(3, houses=[HOUSE], settings=CAMERA, cache_dir=cache_dir, observation="predicted", predictor=predictor)
+    envs = HouseVectorEnv(
+        3, houses=[HOUSE], settings=CAMERA, cache_dir=cache_dir, observation="predicted", predictor=predictor
+    )
     world = envs.env.world(World.load(HOUSE).house_id)
     predicted = PredictedCache.open(world, CAMERA, predictor, cache_dir)
     gt = HouseCache.open(world, CAMERA, cache_dir)
     obs, _ = envs.reset(seed=0)
     for _ in range(3):
         assert np.array_equal(obs["semantic"], predicted.semantic[envs.pose])
-        assert np.array_equal(obs["depth"], predicted.depth[envs.pose]) and np.array_equal(obs["rgb"], gt.rgb[envs.pose])
+        assert np.array_equal(obs["depth"], predicted.depth[envs.pose]) and np.array_equal(
+            obs["rgb"], gt.rgb[envs.pose]
+        )
         obs, *_ = envs.step(np.array([0, 1, 2]))
     envs.close()

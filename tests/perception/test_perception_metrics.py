@@ -4,7 +4,14 @@ import numpy as np
 import pytest
 
 from objsearch.house.categories import CATEGORY_IDS
-from objsearch.perception.metrics import DepthErrors, Evaluation, confusion_matrix, format_table, miou_over, segmentation_metrics
+from objsearch.perception.metrics import (
+    DepthErrors,
+    Evaluation,
+    confusion_matrix,
+    format_table,
+    miou_over,
+    segmentation_metrics,
+)
 
 WALL, FLOOR = CATEGORY_IDS["wall"], CATEGORY_IDS["floor"]
 SOFA, TV, BED = CATEGORY_IDS["sofa"], CATEGORY_IDS["tv"], CATEGORY_IDS["bed"]
@@ -14,7 +21,13 @@ def test_confusion_matrix_counts_gt_rows_and_prediction_columns():
     gt = np.array([[WALL, WALL, SOFA, SOFA]])
     pred = np.array([[WALL, SOFA, SOFA, TV]])
     conf = confusion_matrix(gt, pred)
-    assert conf.sum() == 4 and conf[WALL, WALL] == 1 and conf[WALL, SOFA] == 1 and conf[SOFA, SOFA] == 1 and conf[SOFA, TV] == 1
+    assert (
+        conf.sum() == 4
+        and conf[WALL, WALL] == 1
+        and conf[WALL, SOFA] == 1
+        and conf[SOFA, SOFA] == 1
+        and conf[SOFA, TV] == 1
+    )
 
 
 def test_iou_by_hand_with_a_predicted_but_absent_class():
@@ -30,7 +43,10 @@ def test_iou_by_hand_with_a_predicted_but_absent_class():
     assert m["miou"] == pytest.approx(2 / 5)
     assert m["pixel_accuracy"] == pytest.approx(7 / 10)
     # what each class loses its pixels to: half the sofa's went to the tv, a quarter of the wall's to the sofa
-    assert m["confused_with"][SOFA] == (TV, pytest.approx(2 / 4)) and m["confused_with"][WALL] == (SOFA, pytest.approx(1 / 4))
+    assert m["confused_with"][SOFA] == (TV, pytest.approx(2 / 4)) and m["confused_with"][WALL] == (
+        SOFA,
+        pytest.approx(1 / 4),
+    )
     assert "tv 50%" in format_table({**m, "depth_absrel": 0.0, "depth_rmse": 0.0, "depth_delta1": 1.0})
 
 

@@ -10,14 +10,16 @@ from objsearch.perception.train import init_weights
 from objsearch.sim.camera import RenderSettings
 from objsearch.sim.env import NUM_CATEGORY_IDS
 
-
 TINY_MODEL = ModelConfig(stem=16, mid=32, deep=48, aspp=32, aspp_rates=(2, 4), skip=16, decoder=32)  # trains in seconds
 
 
 def test_one_segmentation_channel_per_category_id():
     assert NUM_CLASSES == max(CATEGORY_IDS.values()) + 1 == NUM_CATEGORY_IDS
     assert all(0 <= i < NUM_CLASSES for i in CATEGORY_IDS.values())
-    assert STRUCTURE["background"] == 0 and min(i for n, i in CATEGORY_IDS.items() if n not in STRUCTURE) == FIRST_OBJECT_ID
+    assert (
+        STRUCTURE["background"] == 0
+        and min(i for n, i in CATEGORY_IDS.items() if n not in STRUCTURE) == FIRST_OBJECT_ID
+    )
     assert SegDepthNet(TINY_MODEL).seg_head.out_channels == 4 * NUM_CLASSES  # before the 2x2 pixel shuffle
     with pytest.raises(UserError, match="category table"):
         ModelConfig(num_classes=NUM_CLASSES - 1)
@@ -55,7 +57,9 @@ def test_checkpoint_round_trip_and_key(tmp_path):
     save_checkpoint(tmp_path / "model.pt", model, camera)
     predictor = Predictor.from_checkpoint(tmp_path / "model.pt", device="cpu")
     assert predictor.model.config == TINY_MODEL
-    assert predictor.settings == camera and predictor.checkpoint == str(tmp_path / "model.pt")  # a RenderSettings, not a dict
+    assert predictor.settings == camera and predictor.checkpoint == str(
+        tmp_path / "model.pt"
+    )  # a RenderSettings, not a dict
     assert load_checkpoint(tmp_path / "model.pt")["settings"] == camera.to_json()  # what the file holds: plain data
     assert predictor.key == checkpoint_key(load_checkpoint(tmp_path / "model.pt"))
     with torch.no_grad():

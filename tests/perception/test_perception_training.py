@@ -7,17 +7,28 @@ import torch
 from objsearch.perception.config import TrainConfig
 from objsearch.perception.dataset import load_split
 from objsearch.perception.inference import Predictor, evaluate
-from objsearch.perception.train import TrainRun
-
 from objsearch.perception.model import ModelConfig
+from objsearch.perception.train import TrainRun
 
 TINY_MODEL = ModelConfig(stem=16, mid=32, deep=48, aspp=32, aspp_rates=(2, 4), skip=16, decoder=32)  # trains in seconds
 
 
 def _config(data, **changes) -> TrainConfig:
-    base = TrainConfig(data=str(data), steps=120, batch_size=16, lr=1e-2, warmup_steps=10, augment=False,
-                       class_weighting="enet", val_frames=0, log_every=40, checkpoint_every=1000, device="cpu",
-                       threads=1, model=TINY_MODEL)
+    base = TrainConfig(
+        data=str(data),
+        steps=120,
+        batch_size=16,
+        lr=1e-2,
+        warmup_steps=10,
+        augment=False,
+        class_weighting="enet",
+        val_frames=0,
+        log_every=40,
+        checkpoint_every=1000,
+        device="cpu",
+        threads=1,
+        model=TINY_MODEL,
+    )
     return dataclasses.replace(base, **changes)
 
 

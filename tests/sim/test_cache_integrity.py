@@ -54,8 +54,10 @@ def _reheader(path):  # same size, another dtype: float16 where uint16 was
     path.write_bytes(data.replace(b"'<u2'", b"'<f2'", 1))
 
 
-@pytest.mark.parametrize("damage, layer", [(_flip, "semantic"), (_zero, "rgb"), (_truncate, "depth"),
-                                           (lambda p: p.unlink(), "rgb"), (_reheader, "depth")])
+@pytest.mark.parametrize(
+    "damage, layer",
+    [(_flip, "semantic"), (_zero, "rgb"), (_truncate, "depth"), (lambda p: p.unlink(), "rgb"), (_reheader, "depth")],
+)
 def test_damaged_cache_is_detected_and_rebuilt(small_world, built, damage, layer, capsys):
     root, arrays = built
     cache = HouseCache.open(small_world, SMALL, root, progress=False)
@@ -140,8 +142,10 @@ HouseCache.open(World.load(HouseRef(seed=3)), RenderSettings(width=16, height=16
 
 def test_concurrent_builds_of_one_cache(small_world, tmp_path):
     env = {**os.environ, "MUJOCO_GL": os.environ.get("MUJOCO_GL", "egl")}
-    builders = [subprocess.Popen([sys.executable, "-c", BUILD, str(tmp_path)], env=env, stderr=subprocess.PIPE, text=True)
-                for _ in range(3)]
+    builders = [
+        subprocess.Popen([sys.executable, "-c", BUILD, str(tmp_path)], env=env, stderr=subprocess.PIPE, text=True)
+        for _ in range(3)
+    ]
     errors = [b.communicate()[1] for b in builders]
     assert [b.returncode for b in builders] == [0, 0, 0], errors
     assert sum("cache train_" in e for e in errors) == 1, "built once, the others waited for it"

@@ -12,7 +12,15 @@ from objsearch.sim.goals import GOAL_CAMERA
 
 # Cache keys of existing caches (~/.cache/objsearch) and the suite files' goal_camera depend on these.
 KEY_64 = "f733eaddf306a059"
-CAMERA_64 = {"width": 64, "height": 64, "fovy": 90.0, "camera_height": 1.0, "znear": 0.05, "zfar": 30.0, "ceiling": True}
+CAMERA_64 = {
+    "width": 64,
+    "height": 64,
+    "fovy": 90.0,
+    "camera_height": 1.0,
+    "znear": 0.05,
+    "zfar": 30.0,
+    "ceiling": True,
+}
 
 
 def test_agent_and_goal_cameras_are_named_and_unchanged():
@@ -22,8 +30,10 @@ def test_agent_and_goal_cameras_are_named_and_unchanged():
 
 
 def test_camera_module_is_light_and_the_renderer_still_exports_settings():
-    code = ("import sys; import objsearch.sim.camera, objsearch.sim.goals; "
-            "heavy = [m for m in ('mujoco', 'torch', 'OpenGL') if m in sys.modules]; assert not heavy, heavy")
+    code = (
+        "import sys; import objsearch.sim.camera, objsearch.sim.goals; "
+        "heavy = [m for m in ('mujoco', 'torch', 'OpenGL') if m in sys.modules]; assert not heavy, heavy"
+    )
     subprocess.run([sys.executable, "-c", code], check=True, timeout=120)
     from objsearch.sim import renderer
 
@@ -46,7 +56,11 @@ def test_one_check_one_error():
     text = str(err.value)
     assert isinstance(err.value, UserError)
     assert text.startswith("checkpoint c.pt was made for camera [width=32 height=32 ")
-    assert "the agent camera is [width=64 height=64 " in text and "differ in width, height" in text and text.endswith("retrain it")
+    assert (
+        "the agent camera is [width=64 height=64 " in text
+        and "differ in width, height" in text
+        and text.endswith("retrain it")
+    )
     for record in (None, {"width": 64}, {**CAMERA_64, "colour": "red"}, "64x64"):  # missing, incomplete, unknown keys
         with pytest.raises(CameraMismatchError, match="camera record is missing, incomplete or unreadable"):
             check_camera(record, AGENT_CAMERA, source="c", expected_name="e", fix="f")
@@ -87,8 +101,24 @@ def _assert_camera_error(text: str, checkpoint) -> None:
 def test_eval_with_a_perception_checkpoint_of_another_camera_exits_2(small_checkpoint, cache_dir, capsys):
     from objsearch.cli import main
 
-    code = main(["eval", "--agent", "random", "--suite", "house-single", "--seeds", "1", "--cache-dir", cache_dir,
-                 "--observation", "predicted", "--perception", str(small_checkpoint), "--quiet"])
+    code = main(
+        [
+            "eval",
+            "--agent",
+            "random",
+            "--suite",
+            "house-single",
+            "--seeds",
+            "1",
+            "--cache-dir",
+            cache_dir,
+            "--observation",
+            "predicted",
+            "--perception",
+            str(small_checkpoint),
+            "--quiet",
+        ]
+    )
     assert code == 2
     _assert_camera_error(capsys.readouterr().err, small_checkpoint)
 
@@ -97,8 +127,20 @@ def test_cache_build_with_a_perception_checkpoint_of_another_camera_exits_2(smal
     from objsearch.cli import main
 
     empty = tmp_path / "cache"
-    code = main(["cache", "build", "--suite", "house-single", "--cache-dir", str(empty), "--observation", "predicted",
-                 "--perception", str(small_checkpoint)])
+    code = main(
+        [
+            "cache",
+            "build",
+            "--suite",
+            "house-single",
+            "--cache-dir",
+            str(empty),
+            "--observation",
+            "predicted",
+            "--perception",
+            str(small_checkpoint),
+        ]
+    )
     assert code == 2
     _assert_camera_error(capsys.readouterr().err, small_checkpoint)
     assert not empty.exists() or not any(empty.iterdir())  # refused before any house was rendered
@@ -112,7 +154,9 @@ def test_a_checkpoint_with_an_incomplete_camera_record_is_refused(small_checkpoi
     state = load_checkpoint(small_checkpoint)
     del state["settings"]["ceiling"]
     torchfile.save(tmp_path / "old.pt", state)
-    with pytest.raises(UserError, match=r"old.pt records no readable camera settings \(missing camera fields ceiling\)"):
+    with pytest.raises(
+        UserError, match=r"old.pt records no readable camera settings \(missing camera fields ceiling\)"
+    ):
         check_checkpoint_camera(tmp_path / "old.pt", RenderSettings(width=32, height=32))
     state["settings"] = {**RenderSettings(width=32, height=32).to_json(), "colour": "red"}
     torchfile.save(tmp_path / "odd.pt", state)
@@ -126,7 +170,9 @@ def test_perception_predictions_of_another_camera_are_refused_by_the_cache(small
     from objsearch.sim.cache import PredictedCache
 
     predictor = Predictor.from_checkpoint(small_checkpoint, device="cpu")
-    with pytest.raises(CameraMismatchError, match=r"the agent camera \(objsearch.sim.camera.AGENT_CAMERA\) is \[width=64 "):
+    with pytest.raises(
+        CameraMismatchError, match=r"the agent camera \(objsearch.sim.camera.AGENT_CAMERA\) is \[width=64 "
+    ):
         PredictedCache.open(small_world, AGENT_CAMERA, predictor, tmp_path, progress=False)
     with pytest.raises(CameraMismatchError, match=r"the camera of these observations \(cache key \w+\) is \[width=16 "):
         PredictedCache.open(small_world, RenderSettings(width=16, height=16), predictor, tmp_path, progress=False)

@@ -9,11 +9,11 @@ import torch
 from objsearch.cli import main
 from objsearch.cluster import map_houses
 from objsearch.errors import UserError
+from objsearch.perception.cache_cli import build_caches
 from objsearch.perception.dataset import build_dataset
 from objsearch.perception.inference import save_checkpoint
 from objsearch.perception.model import ModelConfig, SegDepthNet
 from objsearch.perception.train import init_weights
-from objsearch.perception.cache_cli import build_caches
 from objsearch.sim.camera import RenderSettings
 
 CAMERA = RenderSettings(width=32, height=32)  # low resolution: fast
@@ -37,9 +37,12 @@ def test_cache_build_on_ray_is_the_local_build(local_ray, small_house, small_wor
     init_weights(model, torch.Generator().manual_seed(0))
     save_checkpoint(tmp_path / "model.pt", model, CAMERA)
     houses = {small_world.house_id: small_house.to_json()}
-    builds = {executor: build_caches(houses, tmp_path / executor, CAMERA, tmp_path / "model.pt", executor=executor,
-                                     progress=False)
-              for executor in ("local", "ray")}
+    builds = {
+        executor: build_caches(
+            houses, tmp_path / executor, CAMERA, tmp_path / "model.pt", executor=executor, progress=False
+        )
+        for executor in ("local", "ray")
+    }
     assert [line.replace("/ray/", "/local/") for line in builds["ray"]] == builds["local"]
     local, distributed = file_bytes(tmp_path / "local"), file_bytes(tmp_path / "ray")
     assert len(local) == 4 + 3  # rgb, depth, semantic, meta; predicted depth, semantic, meta
@@ -49,9 +52,17 @@ def test_cache_build_on_ray_is_the_local_build(local_ray, small_house, small_wor
 
 
 def test_perception_dataset_on_ray_is_the_local_build(local_ray, tmp_path):
-    kwargs = dict(settings=CAMERA, seed=0, poses_per_house=3, eval_poses_per_house=2,
-                  houses={"train": 2, "val": 1, "test": 0}, progress=False)
-    manifests = {executor: build_dataset(tmp_path / executor, executor=executor, **kwargs) for executor in ("local", "ray")}
+    kwargs = dict(
+        settings=CAMERA,
+        seed=0,
+        poses_per_house=3,
+        eval_poses_per_house=2,
+        houses={"train": 2, "val": 1, "test": 0},
+        progress=False,
+    )
+    manifests = {
+        executor: build_dataset(tmp_path / executor, executor=executor, **kwargs) for executor in ("local", "ray")
+    }
     assert manifests["ray"] == manifests["local"]
     assert [len(s["houses"]) for s in manifests["local"]["splits"].values()] == [2, 1]
     local, distributed = file_bytes(tmp_path / "local"), file_bytes(tmp_path / "ray")
@@ -73,7 +84,9 @@ def test_map_houses_keeps_the_order_of_its_houses():
         map_houses(abs, items, address="auto", progress=False)
 
 
-@pytest.mark.parametrize("command", [["cache", "build", "--suite", "house-single"], ["perception", "dataset", "--out", "data"]])
+@pytest.mark.parametrize(
+    "command", [["cache", "build", "--suite", "house-single"], ["perception", "dataset", "--out", "data"]]
+)
 def test_cluster_flags_without_a_cluster_are_refused(command, capsys):
     assert main([*command, "--address", "10.0.0.1:6379"]) == 2
     err = capsys.readouterr().err.strip()

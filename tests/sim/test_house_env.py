@@ -135,7 +135,9 @@ def test_small_observation_wrappers(cache_dir, small_house):
 
 
 def test_vector_env(cache_dir, small_house):
-    envs = gymnasium.make_vec("ObjSearch/House-v0", num_envs=2, vectorization_mode="sync", houses=[small_house], cache_dir=cache_dir)
+    envs = gymnasium.make_vec(
+        "ObjSearch/House-v0", num_envs=2, vectorization_mode="sync", houses=[small_house], cache_dir=cache_dir
+    )
     obs, _ = envs.reset(seed=0)
     assert obs["rgb"].shape == (2, 64, 64, 3)
     obs, reward, terminated, truncated, _ = envs.step(np.array([0, 1]))
@@ -145,7 +147,12 @@ def test_vector_env(cache_dir, small_house):
 
 def test_batched_vector_env(cache_dir, small_house):
     envs = gymnasium.make_vec(
-        "ObjSearch/House-v0", num_envs=8, vectorization_mode="vector_entry_point", houses=[small_house], cache_dir=cache_dir, max_steps=30
+        "ObjSearch/House-v0",
+        num_envs=8,
+        vectorization_mode="vector_entry_point",
+        houses=[small_house],
+        cache_dir=cache_dir,
+        max_steps=30,
     )
     inner = envs.unwrapped if hasattr(envs, "unwrapped") else envs
     obs, _ = envs.reset(seed=0)

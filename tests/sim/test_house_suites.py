@@ -41,13 +41,17 @@ def test_suite_files_are_consistent(name):
 
 @pytest.mark.parametrize("name", ["house-single", "house-multi"])
 def test_oracle_is_perfect_on_every_split(name):
-    results = evaluate(EvalConfig(agent="oracle", suite=name, seeds=(1,), suite_config={"mode": "live"}), progress=False)
+    results = evaluate(
+        EvalConfig(agent="oracle", suite=name, seeds=(1,), suite_config={"mode": "live"}), progress=False
+    )
     for split, s in results["splits"].items():
         assert s["sr"] == 1.0 and s["spl"] == 1.0 and s["as"] == s["ms"], split
 
 
 def test_random_is_far_below(cache_dir):
-    config = EvalConfig(agent="random", suite="house-single", seeds=(1,), suite_config={"mode": "cached", "cache_dir": cache_dir})
+    config = EvalConfig(
+        agent="random", suite="house-single", seeds=(1,), suite_config={"mode": "cached", "cache_dir": cache_dir}
+    )
     results = evaluate(config, progress=False)
     for split, s in results["splits"].items():
         assert s["sr"] < 0.6 and s["spl"] < 0.15, (split, s["sr"], s["spl"])
@@ -65,7 +69,9 @@ def test_goal_rule_golden_values(cache_dir):
 
 
 def test_video_writes_map_and_mp4(tmp_path):
-    config = EvalConfig(agent="oracle", suite="house-single", splits=("seen-goals",), seeds=(1,), suite_config={"mode": "live"})
+    config = EvalConfig(
+        agent="oracle", suite="house-single", splits=("seen-goals",), seeds=(1,), suite_config={"mode": "live"}
+    )
     from objsearch.eval.worker import Worker
 
     worker = Worker(config, video_dir=str(tmp_path))
@@ -95,11 +101,11 @@ def test_predicted_observations_through_the_harness(cache_dir, tmp_path):
     and the results record which network it was."""
     import torch
 
+    from objsearch.errors import UserError
     from objsearch.perception.inference import Predictor, save_checkpoint
     from objsearch.perception.model import ModelConfig, SegDepthNet
     from objsearch.perception.train import init_weights
     from objsearch.sim.cache import PredictedCache
-    from objsearch.errors import UserError
 
     model = SegDepthNet(ModelConfig(stem=8, mid=8, deep=8, aspp=8, aspp_rates=(2,), skip=8, decoder=8))
     init_weights(model, torch.Generator().manual_seed(0))
@@ -107,33 +113,64 @@ def test_predicted_observations_through_the_harness(cache_dir, tmp_path):
     save_checkpoint(path, model, AGENT_CAMERA)
     key = Predictor.from_checkpoint(path).key
     suite_config = {"mode": "cached", "cache_dir": cache_dir, "observation": "predicted", "perception": str(path)}
-    config = EvalConfig(agent="random", suite="house-single", splits=("seen-goals",), seeds=(1,), suite_config=suite_config)
+    config = EvalConfig(
+        agent="random", suite="house-single", splits=("seen-goals",), seeds=(1,), suite_config=suite_config
+    )
     results = evaluate(config, progress=False)
     assert results["config"]["suite_config"]["perception_key"] == key
-    gt = evaluate(EvalConfig(agent="random", suite="house-single", splits=("seen-goals",), seeds=(1,),
-                             suite_config={"mode": "cached", "cache_dir": cache_dir}), progress=False)
+    gt = evaluate(
+        EvalConfig(
+            agent="random",
+            suite="house-single",
+            splits=("seen-goals",),
+            seeds=(1,),
+            suite_config={"mode": "cached", "cache_dir": cache_dir},
+        ),
+        progress=False,
+    )
     # the random agent ignores what it sees, so the same episodes succeed: success is judged on the ground truth
     assert [e["success"] for e in results["episodes"]] == [e["success"] for e in gt["episodes"]]
 
-    suite = make_suite("house-single", **results["config"]["suite_config"])  # what a resumed run or a validator rebuilds
+    suite = make_suite(
+        "house-single", **results["config"]["suite_config"]
+    )  # what a resumed run or a validator rebuilds
     env = suite.make_env()
     episode = suite.episodes("seen-goals")[0]
     obs, info = env.reset(options={"task": episode.task})
     world = suite.worlds[episode.task.house]
     predicted = PredictedCache.open(world, AGENT_CAMERA, suite.predictor, cache_dir, progress=False)
     pose = world.graph.pose_id(*info["pose"])
-    assert np.array_equal(obs["semantic"], predicted.semantic[pose]) and np.array_equal(obs["depth"], predicted.depth[pose])
+    assert np.array_equal(obs["semantic"], predicted.semantic[pose]) and np.array_equal(
+        obs["depth"], predicted.depth[pose]
+    )
     with pytest.raises(UserError, match="has key"):
         make_suite("house-single", **{**results["config"]["suite_config"], "perception_key": "0" * 16})
     with pytest.raises(UserError, match="predicted observations only"):
         make_suite("house-single", perception=str(path))
     small = tmp_path / "small.pt"
     save_checkpoint(small, model, replace(AGENT_CAMERA, width=32, height=32))
-    with pytest.raises(CameraMismatchError, match=r"small.pt was made for camera \[width=32 .* the agent camera .* is \[width=64 "):
+    with pytest.raises(
+        CameraMismatchError, match=r"small.pt was made for camera \[width=32 .* the agent camera .* is \[width=64 "
+    ):
         make_suite("house-single", observation="predicted", perception=str(small))
 
     from objsearch.cli import main
 
-    assert main(["cache", "build", "--suite", "house-single", "--cache-dir", cache_dir, "--observation", "predicted",
-                 "--perception", str(path)]) == 0
+    assert (
+        main(
+            [
+                "cache",
+                "build",
+                "--suite",
+                "house-single",
+                "--cache-dir",
+                cache_dir,
+                "--observation",
+                "predicted",
+                "--perception",
+                str(path),
+            ]
+        )
+        == 0
+    )
     assert main(["cache", "build", "--suite", "house-single", "--perception", str(path)]) == 2

@@ -110,8 +110,8 @@ def test_segmentation_matches_ray_casts_exactly_off_edges(house, renderer, poses
             total += 1
             if got != want:
                 mismatched += 1
-                near = frames.semantic[k, max(r - 1, 0):r + 2, max(c - 1, 0):c + 2]
-                near_inst = frames.instance[k, max(r - 1, 0):r + 2, max(c - 1, 0):c + 2]
+                near = frames.semantic[k, max(r - 1, 0) : r + 2, max(c - 1, 0) : c + 2]
+                near_inst = frames.instance[k, max(r - 1, 0) : r + 2, max(c - 1, 0) : c + 2]
                 assert ((near == want[0]) & (near_inst == want[1])).any(), (k, r, c, got, want)
     assert mismatched / total < 0.05
 
@@ -121,8 +121,8 @@ def test_depth_agrees_with_ray_cast(house, renderer, poses, frames):
     c = SIZE // 2
     for k in range(len(poses)):
         # the centre pixel and its neighbours; skip pixels on an edge (depth jumps there)
-        (geom, expected), = ray_cast(house.model, poses[k], s, [c], [c])
-        patch = frames.depth[k, c - 1:c + 2, c - 1:c + 2]
+        ((geom, expected),) = ray_cast(house.model, poses[k], s, [c], [c])
+        patch = frames.depth[k, c - 1 : c + 2, c - 1 : c + 2]
         if geom >= 0 and np.ptp(patch) < 0.05:
             assert frames.depth[k, c, c] == pytest.approx(expected, abs=2e-3, rel=1e-3)
 
@@ -213,8 +213,15 @@ def test_settings_key_and_json():
     s = RenderSettings(width=32, height=24)
     assert s.key() == RenderSettings(width=32, height=24).key()
     assert s.key() != RenderSettings(width=32, height=24, fovy=60.0).key()
-    assert s.to_json() == {"width": 32, "height": 24, "fovy": 90.0, "camera_height": 1.0, "znear": 0.05, "zfar": 30.0,
-                           "ceiling": True}  # JSON-ready data (objsearch.configs.JsonConfig), not text
+    assert s.to_json() == {
+        "width": 32,
+        "height": 24,
+        "fovy": 90.0,
+        "camera_height": 1.0,
+        "znear": 0.05,
+        "zfar": 30.0,
+        "ceiling": True,
+    }  # JSON-ready data (objsearch.configs.JsonConfig), not text
     assert RenderSettings.from_json(s.to_json()) == s
     assert RenderSettings.from_json(json.loads(s.to_json_text())) == s  # text only at the file edge
     assert json.loads(s.to_json_text()) == s.to_json() and list(json.loads(s.to_json_text())) == sorted(s.to_json())

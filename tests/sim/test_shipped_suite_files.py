@@ -24,7 +24,9 @@ def test_every_shipped_suite_has_its_file_and_no_other_file_is_shipped():
 def test_shipped_file_loads_with_its_version_and_bytes(name, tmp_path):
     version, sha256 = SHIPPED[name]
     path = DATA_DIR / f"{name}.json"
-    assert hashlib.sha256(path.read_bytes()).hexdigest() == sha256, f"{path} changed: rebuild deliberately, bump its version"
+    assert hashlib.sha256(path.read_bytes()).hexdigest() == sha256, (
+        f"{path} changed: rebuild deliberately, bump its version"
+    )
     suite = load_suite_file(name)
     assert suite["suite"] == name and suite["version"] == version and suite["navgraph"] == "navgraph-v1"
     assert all(len(info["spec_sha256"]) == 64 and "seed" in info for info in suite["houses"].values())

@@ -88,8 +88,10 @@ def suite_class(name: str) -> type:
     if name not in SUITES:
         close = difflib.get_close_matches(name, list(SUITES), n=1)
         hint = f"did you mean {close[0]!r}? " if close else ""
-        raise UserError(f"unknown suite {name!r}; {hint}known suites: {', '.join(SUITES)}, "
-                        "or a suite file (.json) made by objsearch suite make")
+        raise UserError(
+            f"unknown suite {name!r}; {hint}known suites: {', '.join(SUITES)}, "
+            "or a suite file (.json) made by objsearch suite make"
+        )
     return _import(SUITES[name])
 
 
@@ -105,8 +107,10 @@ def make_suite(name: str, **config):
     cls = suite_class(name)
     for option in config:
         if option not in cls.options:
-            raise UserError(f"suite {name!r} takes no option {option!r} (it takes {', '.join(cls.options)}); "
-                            f"{option!r} is an option of {', '.join(suites_taking(option)) or 'no suite'}")
+            raise UserError(
+                f"suite {name!r} takes no option {option!r} (it takes {', '.join(cls.options)}); "
+                f"{option!r} is an option of {', '.join(suites_taking(option)) or 'no suite'}"
+            )
     return cls(name, **config)
 
 

@@ -26,27 +26,46 @@ def add_parser(subparsers) -> None:
     """Add ``objsearch suite`` (list, make, rebuild) to ``subparsers``."""
     from objsearch.sim.suites import EPISODES_PER_SPLIT, SUITE_NAMES
 
-    parser = subparsers.add_parser("suite", help="list suites, make one from your houses, rebuild a shipped one",
-                                   description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    parser = subparsers.add_parser(
+        "suite",
+        help="list suites, make one from your houses, rebuild a shipped one",
+        description=__doc__,
+        formatter_class=argparse.RawDescriptionHelpFormatter,
+    )
     commands = parser.add_subparsers(dest="suite_command", metavar="ACTION", required=True)
 
     listing = commands.add_parser("list", help="the suites: name, world and the options each takes")
     listing.set_defaults(func=run_list)
 
     make = commands.add_parser("make", help="make a suite file from houses written by objsearch generate")
-    make.add_argument("--houses", required=True, metavar="DIR", help="folder of house folders (objsearch generate --out DIR)")
+    make.add_argument(
+        "--houses", required=True, metavar="DIR", help="folder of house folders (objsearch generate --out DIR)"
+    )
     make.add_argument("--out", required=True, metavar="FILE", help="the suite file to write (.json)")
-    make.add_argument("--targets", type=name_list, metavar="A,B,...",
-                      help="target categories (default: the suites' targets with goal poses in at least half of the houses)")
-    make.add_argument("--episodes", type=positive_int, default=EPISODES_PER_SPLIT,
-                      help=f"episodes of its one split (default: {EPISODES_PER_SPLIT})")
+    make.add_argument(
+        "--targets",
+        type=name_list,
+        metavar="A,B,...",
+        help="target categories (default: the suites' targets with goal poses in at least half of the houses)",
+    )
+    make.add_argument(
+        "--episodes",
+        type=positive_int,
+        default=EPISODES_PER_SPLIT,
+        help=f"episodes of its one split (default: {EPISODES_PER_SPLIT})",
+    )
     make.add_argument("--seed", type=non_negative_int, default=0, help="seed of the episodes drawn (default: 0)")
-    make.add_argument("--cache-dir", help="observation cache the houses are rendered into (default: $OBJSEARCH_CACHE "
-                                          "or ~/.cache/objsearch; objsearch-eval reuses it)")
+    make.add_argument(
+        "--cache-dir",
+        help="observation cache the houses are rendered into (default: $OBJSEARCH_CACHE "
+        "or ~/.cache/objsearch; objsearch-eval reuses it)",
+    )
     make.set_defaults(func=run_make)
 
     rebuild = commands.add_parser("rebuild", help="rebuild shipped house suite files from their seeds (minutes each)")
-    rebuild.add_argument("names", nargs="+", choices=SUITE_NAMES, metavar="NAME", help=f"one of {', '.join(SUITE_NAMES)}")
+    rebuild.add_argument(
+        "names", nargs="+", choices=SUITE_NAMES, metavar="NAME", help=f"one of {', '.join(SUITE_NAMES)}"
+    )
     rebuild.add_argument("--cache-dir", help="observation cache (default: $OBJSEARCH_CACHE or ~/.cache/objsearch)")
     rebuild.set_defaults(func=run_rebuild)
 
@@ -74,12 +93,17 @@ def run_make(args: argparse.Namespace) -> int:
     from objsearch.sim.suites import suite_from_houses, write_suite_file
 
     if not args.out.endswith(".json"):
-        raise UserError(f"--out {args.out}: a suite file's name ends in .json (objsearch-eval --suite tells it by that)")
+        raise UserError(
+            f"--out {args.out}: a suite file's name ends in .json (objsearch-eval --suite tells it by that)"
+        )
     suite = suite_from_houses(args.houses, args.out, args.targets, args.episodes, args.seed, args.cache_dir)
     write_suite_file(args.out, suite)
-    (split, episodes), = suite["splits"].items()
-    print(f"wrote {args.out}: {len(suite['houses'])} houses, targets {', '.join(suite['categories']['targets'])}; "
-          f"split {split} of {len(episodes)} episodes. Evaluate with: objsearch-eval --suite {args.out}", file=sys.stderr)
+    ((split, episodes),) = suite["splits"].items()
+    print(
+        f"wrote {args.out}: {len(suite['houses'])} houses, targets {', '.join(suite['categories']['targets'])}; "
+        f"split {split} of {len(episodes)} episodes. Evaluate with: objsearch-eval --suite {args.out}",
+        file=sys.stderr,
+    )
     return 0
 
 

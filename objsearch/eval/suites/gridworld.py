@@ -11,13 +11,13 @@ from typing import Any
 
 import numpy as np
 
+from objsearch.errors import UserError
 from objsearch.eval.suites import Episode
 from objsearch.gridworld import dataset
 from objsearch.gridworld.batched import BatchedGridWorld, GridTables
 from objsearch.gridworld.env import GridWorldEnv
 from objsearch.gridworld.maps import MOVES, GridMap, load_map_dir, shortest_path_actions
 from objsearch.gridworld.tasks import GridTask, load_tasks
-from objsearch.errors import UserError
 
 
 @dataclass(frozen=True)
@@ -84,9 +84,15 @@ def read_tasks(path: Path, tables: GridTables) -> list[GridTask] | None:
             map_name, start, goal = item["map"], item["start"], item["goal"]
         except (json.JSONDecodeError, TypeError, KeyError):
             return None
-        if (type(map_name) is not str or map_name not in tables.names or type(goal) is not int
-                or not 0 <= goal < tables.num_goals or type(start) is not list or len(start) != 2
-                or any(type(v) is not int for v in start)):
+        if (
+            type(map_name) is not str
+            or map_name not in tables.names
+            or type(goal) is not int
+            or not 0 <= goal < tables.num_goals
+            or type(start) is not list
+            or len(start) != 2
+            or any(type(v) is not int for v in start)
+        ):
             return None
         row, col = start
         if not (0 <= row < tables.height and 0 <= col < tables.width):
@@ -113,7 +119,9 @@ class GridWorldSuite:
     world = "gridworld"
     options = ("maps", "tasks", "max_steps")
 
-    def __init__(self, name: str = "gridworld", maps: str | None = None, tasks: str | None = None, max_steps: int = 100):
+    def __init__(
+        self, name: str = "gridworld", maps: str | None = None, tasks: str | None = None, max_steps: int = 100
+    ):
         if (maps is None) != (tasks is None):
             raise UserError("--maps and --tasks go together: pass a map directory and a task file, or neither")
         self.name = name
@@ -155,7 +163,9 @@ class GridWorldSuite:
                 if tasks is not None:
                     return tasks
             return dataset.split_tasks(split)
-        return (tables is not None and read_tasks(Path(self.tasks_file), tables)) or load_tasks(self.tasks_file, self.grid_maps)
+        return (tables is not None and read_tasks(Path(self.tasks_file), tables)) or load_tasks(
+            self.tasks_file, self.grid_maps
+        )
 
     def episodes(self, split: str) -> list[Episode]:
         """The fixed episodes of ``split``, in task-file order (ids 0, 1, ...)."""
@@ -204,8 +214,14 @@ class GridSlots:
         self.env = env
         world = env._world
         self.tables = world.tables
-        self.world = BatchedGridWorld(self.tables, num_slots, goals=None, observation=world.observation,
-                                      max_steps=world.max_steps, autoreset=False)
+        self.world = BatchedGridWorld(
+            self.tables,
+            num_slots,
+            goals=None,
+            observation=world.observation,
+            max_steps=world.max_steps,
+            autoreset=False,
+        )
         self.num_actions = int(env.action_space.n)
         if int(env.action_space.start) != 0:
             raise ValueError("GridSlots expects actions numbered from 0")
@@ -248,8 +264,13 @@ class GridSlots:
         out = {}
         for k, i in enumerate(ids):
             r, c = divmod(int(w.cell[i]), t.width)
-            info = {"success": False, "steps": 0, "min_steps": int(w.min_steps[i]), "map": t.names[int(w.map_idx[i])],
-                    "position": (r, c)}
+            info = {
+                "success": False,
+                "steps": 0,
+                "min_steps": int(w.min_steps[i]),
+                "map": t.names[int(w.map_idx[i])],
+                "position": (r, c),
+            }
             out[i] = {"image": obs["image"][k], "goal": int(obs["goal"][k])}, info
         return out
 
@@ -257,9 +278,17 @@ class GridSlots:
         """One step of each slot in ``actions`` (valid actions only); ``info`` holds
         ``success`` and ``steps``."""
         ids = list(actions)
-        obs, _, terminated, truncated, info = self.world.step_envs(ids, np.array([actions[i] for i in ids], dtype=np.int64))
+        obs, _, terminated, truncated, info = self.world.step_envs(
+            ids, np.array([actions[i] for i in ids], dtype=np.int64)
+        )
         images, goals = obs["image"], obs["goal"].tolist()
         terminated, truncated, steps = terminated.tolist(), truncated.tolist(), info["steps"].tolist()
-        return {i: ({"image": images[k], "goal": goals[k]}, terminated[k], truncated[k],
-                    {"success": terminated[k], "steps": steps[k]})
-                for k, i in enumerate(ids)}
+        return {
+            i: (
+                {"image": images[k], "goal": goals[k]},
+                terminated[k],
+                truncated[k],
+                {"success": terminated[k], "steps": steps[k]},
+            )
+            for k, i in enumerate(ids)
+        }

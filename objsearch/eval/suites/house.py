@@ -16,14 +16,14 @@ from __future__ import annotations
 from dataclasses import dataclass
 from functools import cached_property
 
+from objsearch.errors import UserError
 from objsearch.eval.suites import Episode
 from objsearch.house.categories import CATEGORY_IDS
 from objsearch.sim.camera import AGENT_CAMERA, check_predictor_camera
 from objsearch.sim.env import MODES, OBSERVATIONS, HouseEnv, HouseTask
 from objsearch.sim.navgraph import PoseGraph
-from objsearch.sim.suites import episode_task, house_refs, load_houses, load_suite_file
+from objsearch.sim.suites import episode_task, load_houses, load_suite_file
 from objsearch.sim.world import World
-from objsearch.errors import UserError
 
 
 @dataclass(frozen=True)
@@ -49,8 +49,16 @@ class HouseSuite:
     world = "house"
     options = ("mode", "cache_dir", "max_steps", "observation", "perception", "perception_key")
 
-    def __init__(self, name: str, mode: str = "cached", cache_dir: str | None = None, max_steps: int | None = None,
-                 observation: str = "gt", perception: str | None = None, perception_key: str | None = None):
+    def __init__(
+        self,
+        name: str,
+        mode: str = "cached",
+        cache_dir: str | None = None,
+        max_steps: int | None = None,
+        observation: str = "gt",
+        perception: str | None = None,
+        perception_key: str | None = None,
+    ):
         if mode not in MODES:
             raise UserError(f"unknown render mode {mode!r}; use one of {', '.join(MODES)}")
         if observation not in OBSERVATIONS:
@@ -71,8 +79,10 @@ class HouseSuite:
             self.predictor = Predictor.from_checkpoint(self.perception, device="cpu")
             check_predictor_camera(self.predictor, AGENT_CAMERA)  # what the suite's env renders
             if perception_key is not None and perception_key != self.predictor.key:
-                raise UserError(f"perception checkpoint {self.perception} has key {self.predictor.key}, "
-                                f"not {perception_key} as recorded; pass the checkpoint the results were made with")
+                raise UserError(
+                    f"perception checkpoint {self.perception} has key {self.predictor.key}, "
+                    f"not {perception_key} as recorded; pass the checkpoint the results were made with"
+                )
 
     def config(self) -> dict:
         """The config that rebuilds this suite; with predicted observations also the perception checkpoint and key."""
@@ -106,8 +116,15 @@ class HouseSuite:
 
     def make_env(self) -> HouseEnv:
         """A ``HouseEnv`` over the suite's houses with its render mode, observation, camera and step limit."""
-        return HouseEnv(list(self.worlds.values()), mode=self.mode, settings=AGENT_CAMERA, max_steps=self.max_steps,
-                        cache_dir=self.cache_dir, observation=self.observation, predictor=self.predictor)
+        return HouseEnv(
+            list(self.worlds.values()),
+            mode=self.mode,
+            settings=AGENT_CAMERA,
+            max_steps=self.max_steps,
+            cache_dir=self.cache_dir,
+            observation=self.observation,
+            predictor=self.predictor,
+        )
 
     def write_video(self, directory: str, record: dict, episode: Episode, trajectory: list) -> None:
         """Write the video of one episode into ``directory`` as ``<split>_seed<seed>_ep<id>``.
