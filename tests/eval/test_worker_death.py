@@ -70,6 +70,9 @@ def test_workers_die_with_the_evaluation(tmp_path, sig):
             "r.json",
         ],
         cwd=tmp_path,
+        # Ctrl-C as a terminal delivers it: a shell's background job (nohup ... &) starts with SIGINT ignored,
+        # and a process that inherits SIG_IGN keeps it (Python installs its handler only over SIG_DFL)
+        preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_DFL),
         stdout=subprocess.DEVNULL,
         stderr=subprocess.PIPE,
         text=True,
