@@ -59,11 +59,7 @@ def load_policy(
     one trained for another agent. Contents that do not fit are a ``UserError``."""
     from objsearch_agents.grg import GoalsRelationalGraph
 
-    path = Path(path)
-    if path.is_dir():
-        path = path / POLICY_FILE
-    if not path.exists():
-        raise UserError(f"checkpoint {path} does not exist; pass a policy.pt or a training run directory")
+    path = torchfile.policy_path(path, POLICY_FILE)
     state = load_policy_file(path)
     files = [path]
     with torchfile.fitting(path, POLICY_EXPECTED):

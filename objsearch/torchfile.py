@@ -83,6 +83,17 @@ def load(path: str | os.PathLike, expected: str):
         raise UserError(f"cannot read checkpoint {path}: {reason}; expected {expected}") from None
 
 
+def policy_path(path: str | os.PathLike, file_name: str = "policy.pt") -> Path:
+    """``path`` itself, or ``file_name`` inside it when ``path`` is a (training run) folder; a
+    ``UserError`` naming the fix if there is no such file."""
+    path = Path(path)
+    if path.is_dir():
+        path = path / file_name
+    if not path.exists():
+        raise UserError(f"checkpoint {path} does not exist; pass a {file_name} or a training run directory")
+    return path
+
+
 @contextlib.contextmanager
 def fitting(path: str | os.PathLike, expected: str):
     """Interpret a loaded file's contents inside this block: a missing field, a wrong type or

@@ -290,8 +290,8 @@ def untrained_checkpoint(cls, suite: str, out: Path) -> str:
     """An untrained policy of ``cls``'s house method for ``suite``, saved as training saves one."""
     from dataclasses import replace
 
+    from objsearch_agents.house.checkpoint import save_policy
     from objsearch_agents.house.policy import HousePolicy
-    from objsearch_agents.house.train import save_policy
 
     out.mkdir(parents=True, exist_ok=True)
     save_policy(HousePolicy(replace(cls.house.config, suite=suite)), out)

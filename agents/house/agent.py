@@ -17,20 +17,18 @@ from pathlib import Path
 
 import numpy as np
 
-from objsearch import digests, torchfile
+from objsearch import digests
 from objsearch.errors import UserError
-from objsearch.sim.camera import AGENT_CAMERA, AGENT_CAMERA_NAME, check_camera
+from objsearch_agents.house.checkpoint import POLICY_FILE, load_policy
 from objsearch_agents.house.config import HouseAgentConfig
-from objsearch_agents.house.policy import HousePolicy
 from objsearch_agents.house.tables import HISTORY, ObservationTables
 from objsearch_agents.rows import RowRandom
 
 CHECKPOINTS = Path(__file__).resolve().parent.parent / "checkpoints"
-POLICY_KIND = "objsearch-house-policy"
 
 
 def default_checkpoint(suite: str, name: str) -> Path | None:
-    path = CHECKPOINTS / suite / name / "policy.pt"
+    path = CHECKPOINTS / suite / name / POLICY_FILE
     return path if path.exists() else None
 
 
@@ -66,53 +64,21 @@ class HouseAgent:
     # -- checkpoints ------------------------------------------------------------------------
     def load(self, path: str | os.PathLike) -> None:
         """Load ``policy.pt`` (or a run directory holding it) and ``grg.npz`` beside it."""
-        from objsearch_agents.grg import GoalsRelationalGraph
-        from objsearch_agents.house.train import GRG_FILE, POLICY_FILE, load_checkpoint_file
-
-        path = Path(path)
-        if path.is_dir():
-            path = path / POLICY_FILE
-        if not path.exists():
-            raise UserError(f"checkpoint {path} does not exist; pass a policy.pt or a training run directory")
-        state = load_checkpoint_file(path)
-        if not isinstance(state, dict) or state.get("kind") != POLICY_KIND:
-            raise UserError(
-                f"checkpoint {path} is not a house agent's policy.pt (a grid-world or other file?); "
-                "pass one written by objsearch train --suite house-..."
-            )
-        files = [path]
-        with torchfile.fitting(path, "a house agent's policy.pt written by objsearch train"):
-            saved = HouseAgentConfig.from_json(state["config"], f"checkpoint {path}")
-            if saved.name != self.config.name:
-                raise UserError(
-                    f"checkpoint {path} was trained as {saved.name}, not {self.config.name}; pick --agent {saved.name}"
-                )
-            if saved.suite != self.suite:
-                raise UserError(
-                    f"checkpoint {path} was trained on suite {saved.suite}, not {self.suite}; "
-                    f"evaluate it with --suite {saved.suite} or pass a checkpoint trained on {self.suite}"
-                )
-            check_camera(
-                state.get("camera"),
-                AGENT_CAMERA,
-                source=f"house policy checkpoint {path}",
-                expected_name=AGENT_CAMERA_NAME,
-                fix=f"retrain it (objsearch train --agent {saved.name} --suite {saved.suite}) or pass a checkpoint "
-                "trained with that camera",
-            )
-            self.policy = HousePolicy(saved)
-            if self.policy.ac is not None:
-                self.policy.ac.load_state_dict(state["ac"])
-            if self.policy.q is not None:
-                self.policy.q.load_state_dict(state["q"])
-            if self.policy.explore is not None:
-                self.policy.explore.load_state_dict(state["explore"])
-        if self.policy.grg is not None:
-            files.append(path.parent / GRG_FILE)
-            self.policy.grg = GoalsRelationalGraph.load(files[-1])
-            self.policy.refresh_plans()
-        self.loaded_from = str(path)
+        self.policy, files = load_policy(path, self._check_trained_for)
+        self.loaded_from = str(files[0])
         self.weights_sha256 = digests.of_files(files)
+
+    def _check_trained_for(self, saved: HouseAgentConfig, path: Path) -> None:
+        """Refuse a checkpoint trained as another agent or on another suite than this one's."""
+        if saved.name != self.config.name:
+            raise UserError(
+                f"checkpoint {path} was trained as {saved.name}, not {self.config.name}; pick --agent {saved.name}"
+            )
+        if saved.suite != self.suite:
+            raise UserError(
+                f"checkpoint {path} was trained on suite {saved.suite}, not {self.suite}; "
+                f"evaluate it with --suite {saved.suite} or pass a checkpoint trained on {self.suite}"
+            )
 
     # -- the protocol (one episode, or N in lockstep: the same code) -------------------------
     def reset(self, task) -> None:

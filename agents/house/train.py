@@ -21,7 +21,7 @@ with the deviations written in ``docs/house_agents.md``:
   ``explorer``, the back-up node's options run another frozen actor-critic (the suite's A3C).
 * Curriculum on the start pools (``episodes``); an episode is at most 1000 steps.
 
-Files in the run directory: ``config.json``, ``command.txt``, ``policy.pt`` (+ ``grg.npz``)
+Files in the run directory (their format: ``house.checkpoint``): ``config.json``, ``command.txt``, ``policy.pt`` (+ ``grg.npz``)
 the evaluable policy, ``state.pt`` everything to resume exactly, ``log.csv``. Rerunning
 the same command resumes (only ``steps`` may change).
 """
@@ -39,9 +39,9 @@ from tqdm import tqdm
 from objsearch import torchfile
 from objsearch.fileio import atomic_write, write_csv, write_json
 from objsearch.interrupt import stop_on_interrupt
-from objsearch.sim.camera import AGENT_CAMERA
 from objsearch_agents.a2c import ActorCriticLearner
 from objsearch_agents.dqn_learner import Learner, td_loss
+from objsearch_agents.house.checkpoint import CONFIG_FILE, LOG_FILE, STATE_FILE, load_checkpoint_file, save_policy
 from objsearch_agents.house.config import HouseAgentConfig
 from objsearch_agents.house.episodes import EpisodeBatch, TrainingHouses, object_node
 from objsearch_agents.house.policy import (
@@ -69,7 +69,6 @@ LOG_FIELDS = (
     "grg_counts",
     "wall_s",
 )
-POLICY_FILE, STATE_FILE, CONFIG_FILE, LOG_FILE, GRG_FILE = "policy.pt", "state.pt", "config.json", "log.csv", "grg.npz"
 
 
 # -- Q-learning targets ---------------------------------------------------------------------
@@ -110,27 +109,6 @@ def grg_loss(learner: Learner, batch: dict, tables, policy: HousePolicy) -> torc
         )
         next_q = learner.target(*candidate_inputs(tables, batch["next_hist"], rows, best, weights))
     return td_loss(q, batch["reward"], batch["done"], next_q, learner.gamma)
-
-
-# -- files ---------------------------------------------------------------------------------
-def load_checkpoint_file(path: Path) -> dict:
-    """A ``policy.pt`` or ``state.pt`` (tensors and plain data only: nothing is executed)."""
-    return torchfile.load(path, "a file written by objsearch train")
-
-
-def save_policy(policy: HousePolicy, out: Path) -> None:
-    """The evaluable policy: ``policy.pt`` (config and network weights) and ``grg.npz``."""
-    state = {
-        "kind": "objsearch-house-policy",
-        "config": policy.config.to_json(),
-        "camera": AGENT_CAMERA.to_json(),
-        "ac": policy.ac.state_dict() if policy.ac is not None else None,
-        "q": policy.q.state_dict() if policy.q is not None else None,
-        "explore": policy.explore.state_dict() if policy.explore is not None else None,
-    }
-    torchfile.save(out / POLICY_FILE, state)
-    if policy.grg is not None:
-        policy.grg.save(out / GRG_FILE)
 
 
 class HouseTrainRun:

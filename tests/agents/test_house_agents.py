@@ -15,12 +15,13 @@ from objsearch.sim.env import HouseEnv
 from objsearch.sim.world import HouseRef
 from objsearch.sim.wrappers import FrameHistory, TargetMaskDepth
 from objsearch_agents.house.agent import CHECKPOINTS
+from objsearch_agents.house.checkpoint import save_policy
 from objsearch_agents.house.config import HouseAgentConfig
 from objsearch_agents.house.episodes import EpisodeBatch, TrainingHouses
 from objsearch_agents.house.nets import CategoryQ
 from objsearch_agents.house.policy import NUM_NODES, HousePolicy, category_input
 from objsearch_agents.house.tables import NUM_CATEGORIES, ObservationTables, house_tables
-from objsearch_agents.house.train import HouseTrainRun, save_policy
+from objsearch_agents.house.train import HouseTrainRun
 
 SMALL = HouseRef(seed=3)  # ~1700 poses
 TARGETS = ["bed", "sofa", "toilet", "fridge", "tv", "bathtub", "wardrobe", "nightstand"]
@@ -298,7 +299,7 @@ def test_resume_is_exact(houses, tmp_path, method, settings):
 
     whole = run_for(6_000, tmp_path / "whole")
     run_for(3_000, tmp_path / "half")
-    from objsearch_agents.house.train import STATE_FILE, load_checkpoint_file
+    from objsearch_agents.house.checkpoint import STATE_FILE, load_checkpoint_file
 
     resumed = run_for(6_000, tmp_path / "half", load_checkpoint_file(tmp_path / "half" / STATE_FILE))
     untimed = lambda rows: [{k: v for k, v in r.items() if k != "wall_s"} for r in rows]
