@@ -126,6 +126,11 @@ class GridTables:
         """Index of the map named ``name`` (ValueError if absent)."""
         return self.names.index(name)
 
+    def goal_distances(self, name: str, goal: int) -> np.ndarray:
+        """(H, W) minimal steps from every cell of map ``name`` to its goal ``goal`` (-1 = none):
+        ``maps.bfs_distances`` of that goal, read from ``goal_dist``."""
+        return self.goal_dist[self.map_index(name), goal].reshape(self.height, self.width)
+
 
 class BatchedGridWorld:
     """``num_envs`` grid-world episodes stepped together.

@@ -180,21 +180,30 @@ def save_map(grid_map: GridMap, directory: str | os.PathLike) -> Path:
     return path
 
 
-def shortest_path_actions(obstacles: np.ndarray, start: tuple[int, int], goal: tuple[int, int]) -> list[int]:
+def shortest_path_actions(
+    obstacles: np.ndarray, start: tuple[int, int], goal: tuple[int, int], dist: np.ndarray | None = None
+) -> list[int]:
     """Actions (indices into ``MOVES``) of one shortest path from ``start`` to ``goal``.
 
     Ties are broken by action order (up, down, left, right), so the path is deterministic.
+    ``dist``: the goal's ``bfs_distances`` if already at hand (e.g. ``GridTables.goal_distances``).
     """
-    dist = bfs_distances(obstacles, goal)
+    if dist is None:
+        dist = bfs_distances(obstacles, goal)
+    height, width = dist.shape
+    d = dist.tolist()  # Python lists: the walk reads one cell at a time
     r, c = int(start[0]), int(start[1])
-    if dist[r, c] < 0:
+    if d[r][c] < 0:
         raise ValueError(f"goal {goal} cannot be reached from {start}")
     actions = []
-    while dist[r, c] > 0:
-        for a, (dr, dc) in enumerate(MOVES):
+    while d[r][c] > 0:
+        for a, (dr, dc) in enumerate(_MOVE_LIST):
             nr, nc = r + dr, c + dc
-            if 0 <= nr < dist.shape[0] and 0 <= nc < dist.shape[1] and dist[nr, nc] == dist[r, c] - 1:
+            if 0 <= nr < height and 0 <= nc < width and d[nr][nc] == d[r][c] - 1:
                 actions.append(a)
                 r, c = nr, nc
                 break
     return actions
+
+
+_MOVE_LIST = [tuple(move) for move in MOVES.tolist()]

@@ -11,6 +11,7 @@ import json
 import os
 from dataclasses import dataclass
 from pathlib import Path
+from typing import Callable
 
 import numpy as np
 
@@ -44,8 +45,20 @@ class GridTask:
         return {"map": self.map, "start": list(self.start), "goal": self.goal}
 
 
-def make_task(maps: dict[str, GridMap], map_name: str, start, goal: int, source: str = "task") -> GridTask:
-    """Check a task against its map and compute its minimal steps."""
+GoalDistances = Callable[[str, int], np.ndarray]
+"""(map name, goal) -> (H, W) BFS distances to that goal, e.g. ``GridTables.goal_distances``."""
+
+
+def make_task(
+    maps: dict[str, GridMap],
+    map_name: str,
+    start,
+    goal: int,
+    source: str = "task",
+    distances: GoalDistances | None = None,
+) -> GridTask:
+    """Check a task against its map and compute its minimal steps (a BFS, or read from
+    ``distances`` when the caller has them)."""
     if map_name not in maps:
         known = ", ".join(list(maps)[:5])
         raise UserError(f"{source}: unknown map {map_name!r} (the map directory has {known}, ...)")
@@ -60,7 +73,8 @@ def make_task(maps: dict[str, GridMap], map_name: str, start, goal: int, source:
     if not (0 <= row < height and 0 <= col < width) or grid_map.obstacles[row, col]:
         raise UserError(f"{source}: start {[row, col]} is not a free cell of {map_name}")
     goal_cell = tuple(grid_map.goals[goal])
-    steps = int(bfs_distances(grid_map.obstacles, goal_cell)[row, col])
+    dist = bfs_distances(grid_map.obstacles, goal_cell) if distances is None else distances(map_name, int(goal))
+    steps = int(dist[row, col])
     if steps < 0:
         raise UserError(f"{source}: goal {goal} of {map_name} cannot be reached from start {[row, col]}")
     if steps == 0:
@@ -68,8 +82,10 @@ def make_task(maps: dict[str, GridMap], map_name: str, start, goal: int, source:
     return GridTask(map=map_name, start=(row, col), goal=int(goal), min_steps=steps)
 
 
-def load_tasks(path: str | os.PathLike, maps: dict[str, GridMap]) -> list[GridTask]:
-    """Load a JSONL task file, checking every line against ``maps``."""
+def load_tasks(
+    path: str | os.PathLike, maps: dict[str, GridMap], distances: GoalDistances | None = None
+) -> list[GridTask]:
+    """Load a JSONL task file, checking every line against ``maps`` (``distances``: see ``make_task``)."""
     path = Path(path)
     try:
         lines = path.read_text().splitlines()
@@ -87,7 +103,7 @@ def load_tasks(path: str | os.PathLike, maps: dict[str, GridMap]) -> list[GridTa
             raise UserError(
                 f'{where}: malformed task line ({err}); expected {{"map": "map_0005", "start": [7, 10], "goal": 14}}'
             ) from None
-        tasks.append(make_task(maps, map_name, start, goal, source=where))
+        tasks.append(make_task(maps, map_name, start, goal, source=where, distances=distances))
     if not tasks:
         raise UserError(f"task file {path} holds no tasks")
     return tasks

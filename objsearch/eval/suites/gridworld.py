@@ -3,7 +3,6 @@ user's own maps and task file (``--maps DIR --tasks FILE``)."""
 
 from __future__ import annotations
 
-import json
 from dataclasses import dataclass, field
 from functools import cached_property
 from pathlib import Path
@@ -16,7 +15,7 @@ from objsearch.eval.suites import Episode
 from objsearch.gridworld import dataset
 from objsearch.gridworld.batched import BatchedGridWorld, GridTables
 from objsearch.gridworld.env import GridWorldEnv
-from objsearch.gridworld.maps import MOVES, GridMap, load_map_dir, shortest_path_actions
+from objsearch.gridworld.maps import GridMap, load_map_dir, shortest_path_actions
 from objsearch.gridworld.tasks import GridTask, load_tasks
 
 
@@ -24,9 +23,9 @@ from objsearch.gridworld.tasks import GridTask, load_tasks
 class GridPath:
     """The oracle's view of a grid-world episode.
 
-    ``distances``: the goal's BFS distances over the map (H, W), as ``GridTables.goal_dist``
-    holds them; with them the path is read off without a BFS of its own (the same path:
-    ties broken by action order). The path is computed once per episode."""
+    ``distances``: the goal's BFS distances over the map (H, W), from
+    ``GridTables.goal_distances``, so that the path needs no BFS of its own (the same path).
+    The path is computed once per episode."""
 
     grid_map: GridMap
     task: GridTask
@@ -39,71 +38,7 @@ class GridPath:
     @cached_property
     def _path(self) -> tuple[int, ...]:
         goal = tuple(self.grid_map.goals[self.task.goal])
-        if self.distances is None:
-            return tuple(shortest_path_actions(self.grid_map.obstacles, self.task.start, goal))
-        return tuple(descend(self.distances, self.task.start))
-
-
-_MOVES = [tuple(move) for move in MOVES.tolist()]
-
-
-def descend(dist: np.ndarray, start) -> list[int]:
-    """The actions of ``maps.shortest_path_actions`` read off the goal's distances ``dist``
-    (H, W; -1 unreachable): from ``start``, the first action (up, down, left, right) that
-    lowers the distance by one, until it is 0."""
-    height, width = dist.shape
-    d = dist.tolist()
-    r, c = int(start[0]), int(start[1])
-    if d[r][c] < 0:
-        raise ValueError(f"the goal cannot be reached from {tuple(start)}")
-    actions = []
-    while d[r][c] > 0:
-        for a, (dr, dc) in enumerate(_MOVES):
-            nr, nc = r + dr, c + dc
-            if 0 <= nr < height and 0 <= nc < width and d[nr][nc] == d[r][c] - 1:
-                actions.append(a)
-                r, c = nr, nc
-                break
-    return actions
-
-
-def read_tasks(path: Path, tables: GridTables) -> list[GridTask] | None:
-    """A task file's tasks, their ``min_steps`` read from ``tables`` instead of one BFS a
-    task; None if the file cannot be read or any line is not a plain valid task (then
-    ``tasks.load_tasks`` reads it, and words the error)."""
-    try:
-        lines = path.read_text().splitlines()
-    except OSError:
-        return None
-    tasks = []
-    for line in lines:
-        if not line.strip():
-            continue
-        try:
-            item = json.loads(line)
-            map_name, start, goal = item["map"], item["start"], item["goal"]
-        except (json.JSONDecodeError, TypeError, KeyError):
-            return None
-        if (
-            type(map_name) is not str
-            or map_name not in tables.names
-            or type(goal) is not int
-            or not 0 <= goal < tables.num_goals
-            or type(start) is not list
-            or len(start) != 2
-            or any(type(v) is not int for v in start)
-        ):
-            return None
-        row, col = start
-        if not (0 <= row < tables.height and 0 <= col < tables.width):
-            return None
-        cell = row * tables.width + col
-        m = tables.map_index(map_name)
-        steps = int(tables.goal_dist[m, goal, cell])
-        if not tables.free[m, cell] or steps <= 0:
-            return None
-        tasks.append(GridTask(map=map_name, start=(row, col), goal=goal, min_steps=steps))
-    return tasks or None
+        return tuple(shortest_path_actions(self.grid_map.obstacles, self.task.start, goal, self.distances))
 
 
 class GridWorldSuite:
@@ -156,25 +91,17 @@ class GridWorldSuite:
             return None
 
     def _tasks(self, split: str) -> list[GridTask]:
+        """The tasks of ``split``, their minimal steps read from the suite's tables when it has them."""
+        path = dataset.DATA_DIR / "tasks" / f"{split}.jsonl" if self.tasks_file is None else self.tasks_file
         tables = self._tables
-        if self.tasks_file is None:
-            if tables is not None and split in dataset.SPLIT_GOALS and self.maps_dir is None:
-                tasks = read_tasks(dataset.DATA_DIR / "tasks" / f"{split}.jsonl", tables)
-                if tasks is not None:
-                    return tasks
-            return dataset.split_tasks(split)
-        return (tables is not None and read_tasks(Path(self.tasks_file), tables)) or load_tasks(
-            self.tasks_file, self.grid_maps
-        )
+        return load_tasks(path, self.grid_maps, tables.goal_distances if tables is not None else None)
 
     def episodes(self, split: str) -> list[Episode]:
         """The fixed episodes of ``split``, in task-file order (ids 0, 1, ...)."""
         episodes = []
         tables = self._tables
         for i, task in enumerate(self._tasks(split)):
-            distances = None
-            if tables is not None:
-                distances = tables.goal_dist[tables.map_index(task.map), task.goal].reshape(tables.height, tables.width)
+            distances = tables.goal_distances(task.map, task.goal) if tables is not None else None
             episodes.append(
                 Episode(
                     episode_id=i,
