@@ -33,6 +33,13 @@ def add_parser(subparsers) -> None:
     p.add_argument(
         "--split", choices=("train", "test"), default="train", help="test houses use the reserved mesh variants"
     )
+    p.add_argument(
+        "--generator",
+        choices=("house-gen-1", "house-gen-2"),
+        default="house-gen-1",
+        help="generator version (default: house-gen-1, the one every shipped suite uses; house-gen-2: zoned "
+        "floorplans with corridors, L-shaped rooms, an entrance and fill that follows room area)",
+    )
     p.add_argument("--no-preview", action="store_true", help="skip preview.png")
     p.add_argument("--quiet", action="store_true", help="no progress bar")
     p.set_defaults(func=run)
@@ -52,7 +59,7 @@ def run(args: argparse.Namespace) -> int:
     failed = []
     for seed in tqdm(seeds, desc="houses", unit="house", disable=args.quiet or args.num == 1):
         try:
-            house = generate_house(seed, args.rooms, args.split)
+            house = generate_house(seed, args.rooms, args.split, generator=args.generator)
         except HouseGenerationError as err:
             failed.append(str(err))
             continue

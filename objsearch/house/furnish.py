@@ -335,7 +335,10 @@ def kitchen_group(L: RoomLayout, gid: str) -> bool:
         target = min(length - 2 * GAP, rng.uniform(2.5, 4.5))
         while fridge[0] + sum(w for _, w in modules) + 0.6 <= target:
             modules.append(
-                ("counter", r4(round(rng.uniform(0.6, min(1.2, target - fridge[0] - sum(w for _, w in modules))), 2)))
+                (
+                    "counter",
+                    r4(round(rng.uniform(0.6, max(0.6, min(1.2, target - fridge[0] - sum(w for _, w in modules)))), 2)),
+                )
             )
         order = [modules[int(i)] for i in rng.permutation(len(modules))]
         run = [("fridge", fridge[0])] + order if rng.random() < 0.5 else order + [("fridge", fridge[0])]
@@ -398,13 +401,14 @@ def door_keepouts(L: RoomLayout, room_bounds, doors: list[Door]) -> None:
             L.block((x_in[0], cy - w, 0.0, x_in[1], cy + w, 10.0))
 
 
-def furnish_room(L: RoomLayout, house_types: list[str]) -> None:
+def furnish_room(L: RoomLayout, house_types: list[str], mandatory: dict | None = None) -> None:
     """Furnish one room: its mandatory groups, optional groups, then the fill categories of its type.
 
-    ``house_types``: the room types of the whole house. Raises ``StageFailure`` when a mandatory group does not fit.
+    ``house_types``: the room types of the whole house; ``mandatory``: the groups per room type
+    (default ``MANDATORY``). Raises ``StageFailure`` when a mandatory group does not fit.
     """
     rng = L.rng
-    for gname, fn in MANDATORY[L.type]:
+    for gname, fn in (mandatory or MANDATORY)[L.type]:
         if not fn(L, f"{gname}_{L.room_id}"):
             raise StageFailure(f"room {L.room_id} ({L.type}): no place for the {gname} group")
     x0, y0, x1, y1 = L.interior

@@ -5,13 +5,20 @@ furniture, materials) with ``numpy.random.default_rng([seed, attempt, split])`` 
 validates the result (``objsearch.house.validate``). Resampling is bounded and documented:
 if a stage cannot satisfy its rules (``StageFailure``), the model does not compile, or
 validation fails, the next *attempt* starts over from a fresh generator; after
-``MAX_ATTEMPTS`` attempts ``HouseGenerationError`` lists what went wrong. The size class
+``MAX_ATTEMPTS`` attempts (``GENERATOR_ATTEMPTS`` per generator) ``HouseGenerationError`` lists
+what went wrong. The size class
 is drawn once per seed (from ``default_rng([seed, SIZE_STREAM])``) so resampling keeps it.
 The attempt that succeeded is recorded in the spec, so a spec is reproducible from
 (seed, split, size class, version) alone.
 
 ``HOUSE_GENERATOR_VERSION`` must be bumped whenever the same seed would give a different
 house (then regenerate the golden specs: ``python tests/house/make_golden.py``).
+
+Generators (``GENERATORS``, chosen with ``generate_house(..., generator=NAME)``):
+``house-gen-1`` (the default, the stages of this module; every shipped suite, golden spec and
+checkpoint uses it, byte for byte) and ``house-gen-2`` (``objsearch.house.generate_v2``:
+zoned floorplans with corridors, L-shaped rooms, per-type room sizes, an entrance and fill
+that follows room area; its own rules in ``objsearch.house.validate_v2``).
 """
 
 from __future__ import annotations
@@ -36,7 +43,11 @@ from objsearch.house.spec import HouseSpec, Room, r4
 from objsearch.house.validate import ValidationReport, validate_house
 
 HOUSE_GENERATOR_VERSION = "house-gen-1"
+DEFAULT_GENERATOR = HOUSE_GENERATOR_VERSION
+GENERATORS = ("house-gen-1", "house-gen-2")
 MAX_ATTEMPTS = 12
+#: Attempts per generator: house-gen-2's stages reject more layouts early (cheaply), so it gets more.
+GENERATOR_ATTEMPTS = {"house-gen-1": MAX_ATTEMPTS, "house-gen-2": 24}
 WALL_HEIGHT = 2.7
 WALL_THICKNESS = 0.12
 SPLITS = {"train": 0, "test": 1}
@@ -110,22 +121,44 @@ def build_spec(seed: int, size_class: str, split: str, attempt: int) -> HouseSpe
     )
 
 
+def spec_builder(generator: str):
+    """The ``build_spec(seed, size_class, split, attempt)`` of generator ``generator`` (``GENERATORS``).
+
+    Raises ``UserError`` for an unknown generator.
+    """
+    if generator == "house-gen-1":
+        return build_spec
+    if generator == "house-gen-2":
+        from objsearch.house.generate_v2 import build_spec as build_spec_v2
+
+        return build_spec_v2
+    raise UserError(f"unknown house generator {generator!r}; use one of {', '.join(GENERATORS)}")
+
+
 def generate_house(
-    seed: int, size_class: str | None = None, split: str = "train", validate: bool = True
+    seed: int,
+    size_class: str | None = None,
+    split: str = "train",
+    validate: bool = True,
+    generator: str = DEFAULT_GENERATOR,
 ) -> GeneratedHouse:
     """Generate, compile and (with ``validate``) check the house of ``seed``, retrying up to ``MAX_ATTEMPTS``.
 
-    Raises ``UserError`` for an unknown split or size class, ``HouseGenerationError`` if no attempt is valid.
+    ``generator`` names the generator version (``GENERATORS``; default ``house-gen-1``).
+    Raises ``UserError`` for an unknown split, size class or generator, ``HouseGenerationError`` if no
+    attempt is valid.
     """
+    build = spec_builder(generator)
     if split not in SPLITS:
         raise UserError(f"unknown split {split!r}; use one of {', '.join(SPLITS)}")
     if size_class is not None and size_class not in SIZE_CLASSES:
         raise UserError(f"unknown room size {size_class!r}; use one of {', '.join(SIZE_CLASSES)}")
     size_class = size_class or size_class_for(seed)
     failures = []
-    for attempt in range(MAX_ATTEMPTS):
+    attempts = GENERATOR_ATTEMPTS[generator]
+    for attempt in range(attempts):
         try:
-            spec = build_spec(seed, size_class, split, attempt)
+            spec = build(seed, size_class, split, attempt)
         except StageFailure as err:
             failures.append(f"attempt {attempt}: {err}")
             continue
@@ -139,7 +172,8 @@ def generate_house(
             return GeneratedHouse(spec, xml, model, report)
         failures.append(f"attempt {attempt}: " + "; ".join(report.problems[:3]))
     raise HouseGenerationError(
-        f"seed {seed} ({size_class}, {split}): no valid house in {MAX_ATTEMPTS} attempts:\n  " + "\n  ".join(failures)
+        f"seed {seed} ({size_class}, {split}, {generator}): no valid house in {attempts} attempts:\n  "
+        + "\n  ".join(failures)
     )
 
 

@@ -11,7 +11,14 @@ Naming (what a renderer relies on to turn geom ids into segmentation labels):
 * every object is a static body named ``<category>_<instance>`` (e.g. ``chair_3``) with one
   mesh geom of the same name, and a mesh asset of the same name;
 * structure geoms are ``wall_w<k>`` (category ``wall``), ``floor_r<room>`` (``floor``) and
-  ``door_d<k>`` (the lintel over door k, category ``door``);
+  ``door_d<k>`` (the lintel over door k, category ``door``; an entrance's lintel spans the
+  whole outer wall);
+* a room that is not a rectangle (an L, from ``house-gen-2``) gets one floor box over its
+  bounding box, ``FLOOR_SINK`` lower than the others: where the box reaches into the
+  neighbouring room, that room's floor covers it. One box per room keeps ``floor_r<room>``
+  the room's plan box, which the renderer's portal culling reads (it is conservative for an
+  L: the box only adds to the room); the floor of the room with the entrance reaches under
+  the outer wall on that side, so the outer skin seen through the entrance belongs to it;
 * so for every named geom the category is ``name.rsplit("_", 1)[0]`` and its id is
   ``categories.CATEGORY_IDS[category]``; ``geom_labels(model)`` does this for a compiled
   model and returns per-geom category ids and instance numbers (-1 for structure).
@@ -31,14 +38,26 @@ import numpy as np
 
 from objsearch.house import assets
 from objsearch.house.categories import CATEGORY_IDS
-from objsearch.house.spec import HouseSpec
+from objsearch.house.spec import OUTSIDE, HouseSpec
 
 FLOOR_THICKNESS = 0.05
+FLOOR_SINK = 0.002
 
 
 def _quat(yaw_deg: int) -> list[float]:
     a = math.radians(yaw_deg) / 2
     return [round(math.cos(a), 6), 0.0, 0.0, round(math.sin(a), 6)]
+
+
+def _under_entrance(bounds, door, spec: HouseSpec):
+    """``bounds`` grown under the outer wall on the entrance's side (a threshold), so that the outer
+    skin beside the opening, which is seen through it, overlaps the room's floor box."""
+    x0, y0, x1, y1 = bounds
+    t = spec.wall_thickness / 2
+    cx, cy = door.center
+    if door.axis == "x":
+        return (x0, y0 - t, x1, y1) if abs(cy - y0) < 1e-6 else (x0, y0, x1, y1 + t)
+    return (x0 - t, y0, x1, y1) if abs(cx - x0) < 1e-6 else (x0, y0, x1 + t, y1)
 
 
 def build_mjspec(spec: HouseSpec) -> mujoco.MjSpec:
@@ -75,13 +94,17 @@ def build_mjspec(spec: HouseSpec) -> mujoco.MjSpec:
         diffuse=[0.6, 0.6, 0.6],
         castshadow=False,
     )
+    entrance = spec.entrance
     for r in spec.rooms:
         x0, y0, x1, y1 = r.bounds
+        if entrance is not None and max(entrance.rooms) == r.id:
+            x0, y0, x1, y1 = _under_entrance((x0, y0, x1, y1), entrance, spec)
+        sink = 0.0 if len(r.polygon) == 4 else FLOOR_SINK
         world.add_geom(
             name=f"floor_r{r.id}",
             type=mujoco.mjtGeom.mjGEOM_BOX,
             material=r.floor_material,
-            pos=[(x0 + x1) / 2, (y0 + y1) / 2, -FLOOR_THICKNESS / 2],
+            pos=[(x0 + x1) / 2, (y0 + y1) / 2, -FLOOR_THICKNESS / 2 - sink],
             size=[(x1 - x0) / 2, (y1 - y0) / 2, FLOOR_THICKNESS / 2],
         )
     for w in spec.walls:
@@ -100,7 +123,9 @@ def build_mjspec(spec: HouseSpec) -> mujoco.MjSpec:
         world.add_geom(
             name=f"door_d{d.id}",
             type=mujoco.mjtGeom.mjGEOM_BOX,
-            material=spec.room(d.rooms[0]).wall_material,
+            material=spec.room(max(d.rooms)).wall_material
+            if OUTSIDE in d.rooms
+            else spec.room(d.rooms[0]).wall_material,
             pos=[d.center[0], d.center[1], d.height + hz],
             size=[hx, hy, hz],
         )

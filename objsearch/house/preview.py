@@ -1,22 +1,41 @@
-"""Top-down preview of a house (``preview.png``): rooms coloured and labelled, doors, objects.
+"""Top-down preview of a house (``preview.png``), readable without the spec at hand.
 
-Rooms are filled by type, walls drawn dark, door openings as light gaps with a door-width
-arc, floor objects as filled rectangles with a tick on their front side, wall-mounted and
-small objects as outlined rectangles. Drawn with OpenCV; 60 pixels per metre.
+A title (house id, size, rooms, objects) above the plan; in the plan, rooms filled by type
+with their name and area, walls dark, door openings as light gaps with an orange bar, the
+entrance (a door to room id < 0, outside) in green with an arrow from outside, and objects
+as rectangles with a red tick on their front side and a numbered marker. Beside the plan a
+legend numbers the object categories present (in category-table order); under it a scale
+bar, the symbols and a north arrow (+y is north). Drawn with OpenCV and Hershey fonts at
+``PX`` pixels a metre: the same spec gives the same bytes.
+
+``objsearch.sim.video`` draws episode maps on the same plan with ``plan_layout``,
+``draw_plan`` and ``draw_legend``.
 """
 
 from __future__ import annotations
 
+from dataclasses import dataclass
 from pathlib import Path
+from typing import Callable, Sequence
 
 import cv2
 import numpy as np
 
 from objsearch.fileio import atomic_write
-from objsearch.house.spec import HouseSpec
+from objsearch.house.spec import Door, HouseSpec, Room
 
-PX = 60
-MARGIN = 20
+PX = 60  # pixels a metre
+MARGIN = 40  # white border round the plan: room for the entrance's arrow and label
+TITLE_H = 30
+ROW_H = 18  # one legend row
+SYMBOL_W = 26  # a legend symbol's box
+FONT = cv2.FONT_HERSHEY_SIMPLEX
+INK = (20, 20, 20)
+WALL = (60, 60, 60)
+GAP = (250, 250, 250)
+DOOR = (40, 120, 200)  # BGR orange
+ENTRANCE = (40, 150, 40)  # BGR green
+FRONT = (0, 0, 200)
 ROOM_COLORS = {  # BGR
     "living_room": (170, 210, 240),
     "kitchen": (170, 235, 200),
@@ -27,68 +46,436 @@ ROOM_COLORS = {  # BGR
     "hallway": (205, 205, 205),
 }
 
+#: A legend entry: its label and a function drawing its symbol in the box at (x, y).
+LegendEntry = tuple[str, Callable[[np.ndarray, int, int], None]]
 
-def render_preview(spec: HouseSpec) -> np.ndarray:
-    """A top-down BGR (H, W, 3) uint8 plan of the house (cv2 order): rooms, walls, doors, objects, a title."""
+
+@dataclass(frozen=True)
+class PlanLayout:
+    """Where a house's plan lies on a canvas of ``width`` x ``height`` pixels.
+
+    ``left``, ``top``: pixel of the plan's north-west corner (x = 0, y = depth);
+    ``plan_w``, ``plan_h``: the footprint in pixels (``PX`` a metre).
+    """
+
+    width: int
+    height: int
+    left: int
+    top: int
+    plan_w: int
+    plan_h: int
+
+    def pixel(self, x: float, y: float) -> tuple[int, int]:
+        """Pixel (column, row) of world point (x, y) metres (y points up the picture)."""
+        return int(round(self.left + x * PX)), int(round(self.top + self.plan_h - y * PX))
+
+    def canvas(self) -> np.ndarray:
+        """A white BGR canvas of the layout's size."""
+        return np.full((self.height, self.width, 3), 255, np.uint8)
+
+
+def plan_layout(spec: HouseSpec, top: int = 0, bottom: int = 0, right: int = 0, min_width: int = 0) -> PlanLayout:
+    """The layout of ``spec``'s plan with ``MARGIN`` round it, ``top`` / ``bottom`` pixels
+    above / below for a title and a footer and ``right`` beside it for a legend."""
     width, depth = spec.footprint
-    h, w = int(depth * PX) + 2 * MARGIN, int(width * PX) + 2 * MARGIN
-    img = np.full((h, w, 3), 255, np.uint8)
+    plan_w, plan_h = int(round(width * PX)), int(round(depth * PX))
+    return PlanLayout(
+        width=max(plan_w + 2 * MARGIN + right, min_width),
+        height=top + plan_h + 2 * MARGIN + bottom,
+        left=MARGIN,
+        top=top + MARGIN,
+        plan_w=plan_w,
+        plan_h=plan_h,
+    )
 
-    def pt(x, y):  # world -> pixel (y up)
-        return int(round(MARGIN + x * PX)), int(round(h - MARGIN - y * PX))
 
-    def rect(box, color, thickness=-1):
-        x0, y0, x1, y1 = box
-        cv2.rectangle(img, pt(x0, y1), pt(x1, y0), color, thickness, lineType=cv2.LINE_AA)
+def put_text(img: np.ndarray, text: str, org: tuple[int, int], scale: float = 0.45, color=INK, thickness=1) -> None:
+    """Draw ``text`` with its baseline's left end at ``org`` (Hershey simplex, anti-aliased)."""
+    cv2.putText(img, text, org, FONT, scale, color, thickness, cv2.LINE_AA)
 
-    for r in spec.rooms:
-        rect(r.bounds, ROOM_COLORS.get(r.type, (220, 220, 220)))
-    for wall in spec.walls:
-        rect(wall.box, (60, 60, 60))
+
+def text_width(text: str, scale: float = 0.45, thickness: int = 1) -> int:
+    """Width in pixels of ``text`` drawn by ``put_text``."""
+    return cv2.getTextSize(text, FONT, scale, thickness)[0][0]
+
+
+def category_numbers(spec: HouseSpec) -> dict[str, int]:
+    """Number (1, 2, ...) of every object category in ``spec``, in category-table order."""
+    from objsearch.house.categories import CATEGORY_IDS
+
+    names = sorted({o.category for o in spec.objects}, key=lambda n: (CATEGORY_IDS.get(n, 10**6), n))
+    return {name: i + 1 for i, name in enumerate(names)}
+
+
+def room_label(room: Room) -> tuple[str, str]:
+    """The two lines written in a room: its type and its area (``m2`` is drawn as m²)."""
+    return room.type.replace("_", " "), f"{room.area:.1f} m2"
+
+
+def entrances(spec: HouseSpec) -> list[Door]:
+    """The doors that lead outside (one of their ``rooms`` is a negative id)."""
+    return [d for d in spec.doors if min(d.rooms) < 0]
+
+
+def scale_bar_metres(spec: HouseSpec) -> int:
+    """Length of the scale bar: 2 m, or 1 m for a footprint under 6 m wide."""
+    return 1 if spec.footprint[0] < 6 else 2
+
+
+def _rect(img, layout: PlanLayout, box, color, thickness=-1) -> None:
+    x0, y0, x1, y1 = box
+    cv2.rectangle(img, layout.pixel(x0, y1), layout.pixel(x1, y0), color, thickness, lineType=cv2.LINE_AA)
+
+
+def _polygon(layout: PlanLayout, room: Room) -> np.ndarray:
+    return np.array([layout.pixel(x, y) for x, y in room.polygon], np.int32)
+
+
+def _integral(mask: np.ndarray) -> np.ndarray:
+    return cv2.integral(mask.astype(np.uint8))
+
+
+def _box_sums(integral: np.ndarray, x: np.ndarray, y: np.ndarray, w: int, h: int) -> np.ndarray:
+    """Sum of the mask over the w x h box at each (x, y) top-left corner."""
+    return integral[y + h, x + w] - integral[y, x + w] - integral[y + h, x] + integral[y, x]
+
+
+def _room_label_boxes(spec: HouseSpec, layout: PlanLayout) -> list[tuple[int, int, int, int, float]]:
+    """(x, y, w, h, scale) of each room's label box: inside the room, over as little
+    furniture as possible, else as near the room's centre as possible."""
+    shape = (layout.height, layout.width)
+    blocked = np.zeros(shape, np.uint8)
+    for o in spec.objects:
+        x0, y0, x1, y1 = o.footprint
+        (c0, r0), (c1, r1) = layout.pixel(x0, y1), layout.pixel(x1, y0)
+        blocked[max(r0, 0) : r1 + 1, max(c0, 0) : c1 + 1] = 1
+    walls = np.zeros(shape, np.uint8)
+    for w in spec.walls:
+        x0, y0, x1, y1 = w.box
+        (c0, r0), (c1, r1) = layout.pixel(x0, y1), layout.pixel(x1, y0)
+        walls[max(r0 - 3, 0) : r1 + 4, max(c0 - 3, 0) : c1 + 4] = 1
+    objects = _integral(blocked)
+    boxes = []
+    for room in spec.rooms:
+        inside = np.zeros(shape, np.uint8)
+        cv2.fillPoly(inside, [_polygon(layout, room)], 1)
+        outside = _integral((inside == 0) | (walls == 1))
+        cx, cy = layout.pixel(*np.mean(np.array(room.polygon), axis=0))
+        x0, y0, x1, y1 = room.bounds
+        (c0, r0), (c1, r1) = layout.pixel(x0, y1), layout.pixel(x1, y0)
+        best = None
+        for scale in (0.5, 0.42, 0.36):
+            w, h = _label_size(room, scale)
+            ys = np.arange(max(r0, 0), min(r1, layout.height - 1) - h, 2)
+            xs = np.arange(max(c0, 0), min(c1, layout.width - 1) - w, 2)
+            if not len(ys) or not len(xs):
+                continue
+            yy, xx = np.meshgrid(ys, xs, indexing="ij")
+            ok = _box_sums(outside, xx, yy, w, h) == 0
+            if not ok.any():
+                continue
+            dist = np.abs(xx + w / 2 - cx) + np.abs(yy + h / 2 - cy)
+            cost = np.where(ok, 20.0 * _box_sums(objects, xx, yy, w, h) + dist, np.inf)
+            i = np.unravel_index(int(np.argmin(cost)), cost.shape)  # first minimum: deterministic
+            best = (0, int(xx[i]), int(yy[i]), w, h, scale)
+            break
+        if best is None:  # a room too small for its label: centred on it
+            w, h = _label_size(room, 0.36)
+            best = (0, cx - w // 2, cy - h // 2, w, h, 0.36)
+        boxes.append(best[1:])
+    return boxes
+
+
+def _label_size(room: Room, scale: float) -> tuple[int, int]:
+    name, area = room_label(room)
+    w = max(text_width(name, scale), text_width(area, scale * 0.85) + 6)
+    return w + 8, int(round(44 * scale)) + 12
+
+
+def _draw_room_label(img, room: Room, box) -> None:
+    x, y, w, h, scale = box
+    cv2.rectangle(img, (x, y), (x + w - 1, y + h - 1), (255, 255, 255), -1)
+    cv2.rectangle(img, (x, y), (x + w - 1, y + h - 1), (150, 150, 150), 1)
+    name, area = room_label(room)
+    line = int(round(22 * scale))
+    put_text(img, name, (x + (w - text_width(name, scale)) // 2, y + 4 + line), scale)
+    small = scale * 0.85
+    aw = text_width(area, small) + 6
+    ax, ay = x + (w - aw) // 2, y + h - 5
+    put_text(img, area[:-1], (ax, ay), small)  # "12.3 m", then a raised small "2"
+    put_text(img, "2", (ax + text_width(area[:-1], small) + 1, ay - int(9 * small)), small * 0.65)
+
+
+def _draw_doors(img, spec: HouseSpec, layout: PlanLayout) -> None:
+    t = spec.wall_thickness / 2 + 0.01
     for d in spec.doors:
         x0, y0, x1, y1 = d.span
-        t = spec.wall_thickness / 2 + 0.01
         box = (x0, y0 - t, x1, y1 + t) if d.axis == "x" else (x0 - t, y0, x1 + t, y1)
-        rect(box, (250, 250, 250))
-        cv2.line(img, pt(x0, y0), pt(x1, y1), (40, 120, 200), 2, cv2.LINE_AA)
+        _rect(img, layout, box, GAP)
+        entrance = min(d.rooms) < 0
+        cv2.line(img, layout.pixel(x0, y0), layout.pixel(x1, y1), ENTRANCE if entrance else DOOR, 4, cv2.LINE_AA)
+        if entrance:
+            _draw_entrance_arrow(img, spec, layout, d)
+
+
+def _outward(spec: HouseSpec, door: Door) -> tuple[int, int]:
+    """Unit (dx, dy) from the door away from the room it leads into (outside)."""
+    inside = [r for r in spec.rooms if r.id in door.rooms]
+    cx, cy = door.center
+    probe = (cx, cy + 0.3) if door.axis == "x" else (cx + 0.3, cy)
+    polygon = np.array(inside[0].polygon if inside else [(0, 0)], np.float32)
+    into_positive = cv2.pointPolygonTest(polygon, probe, False) > 0
+    sign = -1 if into_positive else 1
+    return (0, sign) if door.axis == "x" else (sign, 0)
+
+
+def _draw_entrance_arrow(img, spec: HouseSpec, layout: PlanLayout, door: Door) -> None:
+    dx, dy = _outward(spec, door)
+    tip = np.array(layout.pixel(*door.center)) + np.array([dx, -dy]) * int(PX * spec.wall_thickness / 2 + 3)
+    tail = tip + np.array([dx, -dy]) * 24
+    cv2.arrowedLine(img, tuple(map(int, tail)), tuple(map(int, tip)), ENTRANCE, 3, cv2.LINE_AA, tipLength=0.45)
+    label = "entrance"
+    w = text_width(label, 0.4)
+    patch = np.full((14, w + 4, 3), 255, np.uint8)
+    put_text(patch, label, (2, 10), 0.4, ENTRANCE)
+    if dx:  # an east or west wall: the label runs along it, beside the arrow
+        patch = np.ascontiguousarray(np.rot90(patch, 1 if dx > 0 else -1))
+        x, y = int(tail[0]) - patch.shape[1] // 2 - 12 * dx, int(tail[1]) - patch.shape[0] // 2
+    else:
+        x, y = int(tail[0]) + 8, (int(tip[1]) + int(tail[1])) // 2 - 7
+    _paste(img, patch, x, y)
+
+
+def _paste(img: np.ndarray, patch: np.ndarray, x: int, y: int) -> None:
+    h, w = patch.shape[:2]
+    x, y = min(max(x, 0), img.shape[1] - w), min(max(y, 0), img.shape[0] - h)
+    region = img[y : y + h, x : x + w]
+    np.minimum(region, patch, out=region)  # dark text over whatever is there
+
+
+def _draw_objects(img, spec: HouseSpec, layout: PlanLayout, highlight: str | None) -> None:
     for o in sorted(spec.objects, key=lambda o: o.position[2]):
         fp = o.footprint
-        color = tuple(int(255 * c) for c in reversed(o.rgba[:3]))
-        if o.placement in ("on_top", "on_wall"):
-            rect(fp, color)
-            rect(fp, (30, 30, 30), 1)
-        else:
-            rect(fp, color)
-            rect(fp, (0, 0, 0), 1)
+        _rect(img, layout, fp, tuple(int(255 * c) for c in reversed(o.rgba[:3])))
+        _rect(img, layout, fp, (30, 30, 30) if o.placement in ("on_top", "on_wall") else (0, 0, 0), 1)
+        if o.placement not in ("on_top", "on_wall"):
             cx, cy = (fp[0] + fp[2]) / 2, (fp[1] + fp[3]) / 2
-            fx, fy = o.front
-            half = o.size[1] / 2
-            cv2.line(
-                img,
-                pt(cx + fx * half * 0.5, cy + fy * half * 0.5),
-                pt(cx + fx * half, cy + fy * half),
-                (0, 0, 200),
-                2,
-                cv2.LINE_AA,
+            (fx, fy), half = o.front, o.size[1] / 2
+            a, b = (
+                layout.pixel(cx + fx * half * 0.5, cy + fy * half * 0.5),
+                layout.pixel(cx + fx * half, cy + fy * half),
             )
+            cv2.line(img, a, b, FRONT, 2, cv2.LINE_AA)
+    for o in spec.objects:
+        if o.category == highlight:
+            x0, y0, x1, y1 = o.footprint
+            _rect(img, layout, (x0 - 0.05, y0 - 0.05, x1 + 0.05, y1 + 0.05), HIGHLIGHT, 3)
+
+
+HIGHLIGHT = (200, 0, 200)  # BGR magenta
+
+
+def _marker_size(number: int) -> tuple[int, int]:
+    return text_width(str(number), 0.33) + 5, 13
+
+
+def draw_marker(img: np.ndarray, number: int, x: int, y: int) -> None:
+    """The numbered marker of an object category, its top-left corner at (x, y)."""
+    w, h = _marker_size(number)
+    cv2.rectangle(img, (x, y), (x + w - 1, y + h - 1), (255, 255, 255), -1)
+    cv2.rectangle(img, (x, y), (x + w - 1, y + h - 1), INK, 1)
+    put_text(img, str(number), (x + 3, y + h - 3), 0.33)
+
+
+def _draw_markers(img, spec: HouseSpec, layout: PlanLayout, numbers: dict[str, int], taken: list) -> None:
+    """A marker on each object, small objects first (at their centre); one that would
+    cover another marker or a room label moves within its object, else is left out."""
+    free = np.ones((layout.height, layout.width), np.uint8)
+    for x, y, w, h, *_ in taken:
+        free[max(y, 0) : y + h, max(x, 0) : x + w] = 0
+
+    def area(o):
+        x0, y0, x1, y1 = o.footprint
+        return (x1 - x0) * (y1 - y0)
+
+    for o in sorted(spec.objects, key=lambda o: (area(o), o.name)):
+        w, h = _marker_size(numbers[o.category])
+        x0, y0, x1, y1 = o.footprint
+        (c0, r0), (c1, r1) = layout.pixel(x0, y1), layout.pixel(x1, y0)
+        cx, cy = (c0 + c1) // 2 - w // 2, (r0 + r1) // 2 - h // 2
+        spots = [(cx, cy)] + sorted(
+            ((x, y) for y in range(r0, max(r1 - h, r0) + 1, 3) for x in range(c0, max(c1 - w, c0) + 1, 3)),
+            key=lambda p: (abs(p[0] - cx) + abs(p[1] - cy), p),
+        )
+        for x, y in spots:
+            if (
+                0 <= x
+                and 0 <= y
+                and x + w <= layout.width
+                and y + h <= layout.height
+                and free[y : y + h, x : x + w].all()
+            ):
+                draw_marker(img, numbers[o.category], x, y)
+                free[max(y - 1, 0) : y + h + 1, max(x - 1, 0) : x + w + 1] = 0
+                break
+
+
+def draw_plan(
+    img: np.ndarray,
+    spec: HouseSpec,
+    layout: PlanLayout,
+    *,
+    room_labels: bool = True,
+    numbers: dict[str, int] | None = None,
+    highlight: str | None = None,
+) -> None:
+    """Draw the plan of ``spec`` into ``img`` at ``layout``: rooms, walls, doors and the
+    entrance, objects (outlined in magenta where their category is ``highlight``), room
+    labels if ``room_labels`` and, with ``numbers`` (category -> number), object markers."""
     for r in spec.rooms:
-        x0, y0, x1, y1 = r.bounds
-        label = r.type.replace("_", " ")
-        (tw, th), _ = cv2.getTextSize(label, cv2.FONT_HERSHEY_SIMPLEX, 0.5, 1)
-        px, py = pt((x0 + x1) / 2, (y0 + y1) / 2)
-        cv2.rectangle(img, (px - tw // 2 - 3, py - th - 3), (px + tw // 2 + 3, py + 4), (255, 255, 255), -1)
-        cv2.putText(img, label, (px - tw // 2, py), cv2.FONT_HERSHEY_SIMPLEX, 0.5, (20, 20, 20), 1, cv2.LINE_AA)
-    cv2.putText(
-        img,
-        f"{spec.house_id}  {width:g} x {depth:g} m  {len(spec.objects)} objects",
-        (MARGIN, 14),
-        cv2.FONT_HERSHEY_SIMPLEX,
-        0.45,
-        (0, 0, 0),
-        1,
-        cv2.LINE_AA,
-    )
+        cv2.fillPoly(img, [_polygon(layout, r)], ROOM_COLORS.get(r.type, (220, 220, 220)), cv2.LINE_AA)
+    for wall in spec.walls:
+        _rect(img, layout, wall.box, WALL)
+    _draw_doors(img, spec, layout)
+    _draw_objects(img, spec, layout, highlight)
+    boxes = _room_label_boxes(spec, layout)  # laid out with or without labels: markers stay put
+    if room_labels:
+        for room, box in zip(spec.rooms, boxes):
+            _draw_room_label(img, room, box)
+    if numbers is not None:
+        _draw_markers(img, spec, layout, numbers, boxes)
+
+
+def legend_size(entries: Sequence[LegendEntry], max_width: int) -> tuple[int, int]:
+    """(width, height) that ``draw_legend`` fills with ``entries`` wrapped at ``max_width``."""
+    return _legend(None, entries, 0, 0, max_width)
+
+
+def draw_legend(img: np.ndarray, entries: Sequence[LegendEntry], x: int, y: int, max_width: int) -> tuple[int, int]:
+    """Draw ``entries`` (symbol, then label) left to right from (x, y), wrapping at
+    ``max_width`` pixels; returns the (width, height) used."""
+    return _legend(img, entries, x, y, max_width)
+
+
+def _legend(img, entries, x, y, max_width) -> tuple[int, int]:
+    """Entries in a grid of equal columns, as many as ``max_width`` holds (at least one)."""
+    if not entries:
+        return 0, 0
+    col_w = max(SYMBOL_W + 4 + text_width(label, 0.4) + 14 for label, _ in entries)
+    cols = min(max(max_width // col_w, 1), len(entries))
+    if img is not None:
+        for i, (label, symbol) in enumerate(entries):
+            cx, cy = x + (i % cols) * col_w, y + (i // cols) * ROW_H
+            symbol(img, cx, cy)
+            put_text(img, label, (cx + SYMBOL_W + 4, cy + 13), 0.4)
+    return cols * col_w, (len(entries) + cols - 1) // cols * ROW_H
+
+
+def door_symbol(img: np.ndarray, x: int, y: int) -> None:
+    """Legend symbol of a door: the orange bar in a gap of a wall."""
+    cv2.rectangle(img, (x, y + 6), (x + SYMBOL_W - 1, y + 12), WALL, -1)
+    cv2.rectangle(img, (x + 6, y + 5), (x + SYMBOL_W - 7, y + 13), GAP, -1)
+    cv2.line(img, (x + 6, y + 9), (x + SYMBOL_W - 7, y + 9), DOOR, 4, cv2.LINE_AA)
+
+
+def entrance_symbol(img: np.ndarray, x: int, y: int) -> None:
+    """Legend symbol of the entrance: a green arrow into the house."""
+    cv2.arrowedLine(img, (x + 2, y + 9), (x + SYMBOL_W - 2, y + 9), ENTRANCE, 3, cv2.LINE_AA, tipLength=0.45)
+
+
+def front_symbol(img: np.ndarray, x: int, y: int) -> None:
+    """Legend symbol of an object with the red tick on its front side."""
+    cv2.rectangle(img, (x + 4, y + 3), (x + SYMBOL_W - 5, y + 15), (190, 190, 190), -1)
+    cv2.rectangle(img, (x + 4, y + 3), (x + SYMBOL_W - 5, y + 15), (0, 0, 0), 1)
+    cv2.line(img, (x + SYMBOL_W // 2, y + 9), (x + SYMBOL_W // 2, y + 15), FRONT, 2, cv2.LINE_AA)
+
+
+def draw_scale_bar(img: np.ndarray, x: int, y: int, metres: int) -> int:
+    """A bar of ``metres`` (``PX`` pixels a metre: it covers columns x .. x + PX * metres - 1,
+    rows y .. y + 5) in black and white metres, labelled; returns the column after the label."""
+    for m in range(metres):
+        color = INK if m % 2 == 0 else (255, 255, 255)
+        cv2.rectangle(img, (x + m * PX, y), (x + (m + 1) * PX - 1, y + 5), color, -1)
+    cv2.rectangle(img, (x, y), (x + metres * PX - 1, y + 5), INK, 1)
+    label = f"{metres} m"
+    put_text(img, label, (x + metres * PX + 6, y + 9), 0.4)
+    return x + metres * PX + 6 + text_width(label, 0.4)
+
+
+def draw_north_arrow(img: np.ndarray, x: int, y: int) -> None:
+    """An arrow pointing up the picture (north, +y) with an ``N``, its top-left at (x, y)."""
+    cv2.arrowedLine(img, (x + 5, y + 22), (x + 5, y + 2), INK, 2, cv2.LINE_AA, tipLength=0.35)
+    put_text(img, "N", (x + 12, y + 14), 0.4)
+
+
+def plan_footer(spec: HouseSpec) -> list[LegendEntry]:
+    """The symbols a plan's footer explains: doors, the entrance if the house has one, object fronts."""
+    entries = [("door", door_symbol)]
+    if entrances(spec):
+        entries.append(("entrance", entrance_symbol))
+    return entries + [("front of an object", front_symbol)]
+
+
+def draw_footer(img: np.ndarray, spec: HouseSpec, layout: PlanLayout, entries: Sequence[LegendEntry], y: int) -> None:
+    """The scale bar, then ``entries`` (wrapped to the plan's width), then a north arrow, from row ``y``."""
+    x = draw_scale_bar(img, layout.left, y + 6, scale_bar_metres(spec)) + 24
+    draw_legend(img, entries, x, y, layout.left + layout.plan_w - 30 - x)
+    draw_north_arrow(img, layout.left + layout.plan_w - 16, y - 4)
+
+
+def footer_height(spec: HouseSpec, entries: Sequence[LegendEntry]) -> int:
+    """Rows ``draw_footer`` needs below the plan for ``entries``."""
+    width = int(round(spec.footprint[0] * PX))
+    bar = scale_bar_metres(spec) * PX + 6 + text_width("2 m", 0.4) + 24
+    return legend_size(entries, width - 30 - bar)[1] + 12
+
+
+def _category_legend(spec: HouseSpec, numbers: dict[str, int], rows: int) -> tuple[int, list]:
+    """The width of the category legend in columns of ``rows`` entries, and each entry's (x, y)."""
+    names = list(numbers)
+    col_w = max(text_width(n.replace("_", " "), 0.4) for n in names) + _marker_size(99)[0] + 20 if names else 0
+    spots = [((i // rows) * col_w, (i % rows) * ROW_H) for i in range(len(names))]
+    return (len(names) + rows - 1) // rows * col_w if names else 0, spots
+
+
+def _preview_parts(spec: HouseSpec, object_labels: bool = True):
+    numbers = category_numbers(spec) if object_labels else {}
+    entries = plan_footer(spec)
+    rows = max((int(round(spec.footprint[1] * PX)) + 2 * MARGIN - 24) // ROW_H, 1)
+    legend_w, spots = _category_legend(spec, numbers, rows)
+    right = legend_w + 10 if numbers else 0
+    layout = plan_layout(spec, top=TITLE_H, bottom=footer_height(spec, entries), right=right)
+    return layout, numbers, entries, spots
+
+
+def preview_layout(spec: HouseSpec, object_labels: bool = True) -> PlanLayout:
+    """Where ``render_preview`` puts the plan of ``spec`` (with or without the category legend)."""
+    return _preview_parts(spec, object_labels)[0]
+
+
+def render_preview(spec: HouseSpec, *, room_labels: bool = True, object_labels: bool = True) -> np.ndarray:
+    """The preview of ``spec`` as a BGR (H, W, 3) uint8 image (cv2 order): title, plan,
+    legend of the numbered object categories (``object_labels``), scale bar and symbols."""
+    layout, numbers, entries, spots = _preview_parts(spec, object_labels)
+    img = layout.canvas()
+    draw_plan(img, spec, layout, room_labels=room_labels, numbers=numbers if object_labels else None)
+    width, depth = spec.footprint
+    title = f"{spec.house_id}   {width:g} x {depth:g} m   {len(spec.rooms)} rooms   {len(spec.objects)} objects"
+    put_text(img, title, (MARGIN, 21), 0.55)
+    if numbers:
+        x0 = layout.left + layout.plan_w + MARGIN
+        put_text(img, "objects", (x0, layout.top - MARGIN + 12), 0.45)
+        for (name, number), (dx, dy) in zip(numbers.items(), spots):
+            x, y = x0 + dx, layout.top - MARGIN + 22 + dy
+            draw_marker(img, number, x, y + 2)
+            put_text(img, name.replace("_", " "), (x + _marker_size(99)[0] + 5, y + 13), 0.4)
+    draw_footer(img, spec, layout, entries, footer_top(layout))
     return img
+
+
+def footer_top(layout: PlanLayout) -> int:
+    """First row of the footer (scale bar and symbols) under the plan of ``layout``."""
+    return layout.top + layout.plan_h + MARGIN - 4
 
 
 def write_preview(spec: HouseSpec, path: str | Path) -> None:

@@ -21,6 +21,8 @@ from objsearch.errors import UserError
 
 SCHEMA_VERSION = 1
 DECIMALS = 4
+#: The room id a door's ``rooms`` holds for the outside of the house (an entrance door).
+OUTSIDE = -1
 
 
 def r4(x: float) -> float:
@@ -67,11 +69,38 @@ class Room:
         pts = self.polygon
         return 0.5 * abs(sum(pts[i][0] * pts[i - 1][1] - pts[i - 1][0] * pts[i][1] for i in range(len(pts))))
 
+    def contains(self, x: float, y: float) -> bool:
+        """Whether the point (x, y) lies strictly inside the room's polygon (even-odd rule)."""
+        inside = False
+        pts = self.polygon
+        for i in range(len(pts)):
+            (xa, ya), (xb, yb) = pts[i - 1], pts[i]
+            if (ya > y) != (yb > y) and x < xa + (y - ya) * (xb - xa) / (yb - ya):
+                inside = not inside
+        return inside
+
+    def rects(self) -> list[tuple[float, float, float, float]]:
+        """The room as axis-aligned rectangles (x0, y0, x1, y1) that tile its (rectilinear) polygon.
+
+        A rectangle is itself (``[bounds]``); an L-shape is cut on the grid of its vertex coordinates.
+        """
+        if len(self.polygon) == 4:
+            return [self.bounds]
+        xs = sorted({p[0] for p in self.polygon})
+        ys = sorted({p[1] for p in self.polygon})
+        out = []
+        for y0, y1 in zip(ys, ys[1:]):
+            for x0, x1 in zip(xs, xs[1:]):
+                if self.contains((x0 + x1) / 2, (y0 + y1) / 2):
+                    out.append((x0, y0, x1, y1))
+        return out
+
 
 @dataclass(frozen=True)
 class Door:
     """An opening between two rooms in the wall line through ``center``.
 
+    An entrance door joins a room to the outside: its ``rooms`` are ``(room, OUTSIDE)``.
     ``axis`` is the direction the wall runs (``x``: a wall at y = center[1]); the opening is
     ``width`` wide and ``height`` high, with a lintel above it up to the wall height.
     """
@@ -183,6 +212,27 @@ class HouseSpec(JsonConfig):
     def object(self, name: str) -> ObjectInstance:
         """The object named ``name`` (StopIteration if there is none)."""
         return next(o for o in self.objects if o.name == name)
+
+    @property
+    def entrance(self) -> Door | None:
+        """The entrance door (the door whose ``rooms`` holds ``OUTSIDE``), None if the house has none."""
+        return next((d for d in self.doors if OUTSIDE in d.rooms), None)
+
+    def entrance_point(self, depth: float = 1.0) -> tuple[float, float] | None:
+        """The point ``depth`` metres inside the house straight in from the entrance's centre (None without one).
+
+        Where episode starts "near the entrance" can be drawn around.
+        """
+        d = self.entrance
+        if d is None:
+            return None
+        room = self.room(max(d.rooms))
+        cx, cy = d.center
+        if d.axis == "x":
+            sign = 1.0 if room.contains(cx, cy + 0.05) else -1.0
+            return (r4(cx), r4(cy + sign * depth))
+        sign = 1.0 if room.contains(cx + 0.05, cy) else -1.0
+        return (r4(cx + sign * depth), r4(cy))
 
     def material(self, name: str) -> Material:
         """The material named ``name`` (StopIteration if there is none)."""

@@ -15,6 +15,8 @@
    object first (``mujoco.mj_ray`` on the compiled model, so occlusion by any geom counts;
    MuJoCo tests rays against a mesh's convex hull, so the ray ignores the object's parent,
    whose hull would enclose it, and otherwise errs towards "occluded").
+6. **Generator rules** (``house-gen-2`` houses only): circulation, sizes, entrance and fill,
+   ``objsearch.house.validate_v2``.
 """
 
 from __future__ import annotations
@@ -118,10 +120,11 @@ def check_reachability(spec: HouseSpec, model: mujoco.MjModel | None, grid: Occu
     xs, ys = grid.centers()
     res = grid.resolution
     for r in spec.rooms:
-        x0, y0, x1, y1 = r.bounds
-        c0, c1 = int(x0 / res), int(np.ceil(x1 / res))
-        r0, r1 = int(y0 / res), int(np.ceil(y1 / res))
-        if not main[r0:r1, c0:c1].any():
+        # a rectangle is its own bounds; an L is its rectangles, not its bounding box
+        if not any(
+            main[int(y0 / res) : int(np.ceil(y1 / res)), int(x0 / res) : int(np.ceil(x1 / res))].any()
+            for x0, y0, x1, y1 in r.rects()
+        ):
             problems.append(f"room {r.id} ({r.type}) is not reachable")
     data = mujoco.MjData(model) if model is not None else None
     if data is not None:
@@ -178,4 +181,8 @@ def validate_house(spec: HouseSpec, model: mujoco.MjModel | None) -> ValidationR
     report.problems += check_interpenetration(spec)
     report.grid = occupancy_grid(spec, GRID_RESOLUTION)
     report.problems += check_reachability(spec, model, report.grid)
+    if spec.generator_version == "house-gen-2":
+        from objsearch.house.validate_v2 import check_rules
+
+        report.problems += check_rules(spec)
     return report

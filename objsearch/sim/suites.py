@@ -14,6 +14,9 @@ regenerates the houses and refuses to run if a hash differs.
   seen and unseen target categories (targets found in at least half of the evaluation
   houses, a third of them held out as unseen); splits ``val-seen``, ``val-unseen``,
   ``test-seen``, ``test-unseen``.
+* ``house-gen-v2``: ``house-gen`` made again with the generator ``house-gen-2`` (circulation
+  through a public core, rooms of real sizes, an entrance; the same seeds, splits and rule
+  for targets). ``house-gen`` stays, since the shipped agents were trained and measured on it.
 
 Episodes: 100 per split, house and target drawn uniformly, the start uniformly among poses
 6 to 40 minimal steps from the nearest goal pose (``START_STEPS``); 1000 steps at most.
@@ -50,7 +53,9 @@ from objsearch.sim.world import HouseRef, World
 
 DATA_DIR = Path(__file__).parent / "data"
 # The shipped house suites, in this order for good: a suite's index seeds its builder.
-SUITE_NAMES = ("house-single", "house-multi", "house-gen")
+SUITE_NAMES = ("house-single", "house-multi", "house-gen", "house-gen-v2")
+# The generator of each suite's houses (None: house-gen-1).
+SUITE_GENERATORS = {"house-gen-v2": "house-gen-2"}
 EPISODES_PER_SPLIT = 100
 MAX_STEPS = 1000
 SUITE_SEED = 20211201
@@ -249,7 +254,15 @@ def house_entry(world: World, ref: HouseRef) -> dict:
     its generator seed, or its folder (``ref.path``)."""
     if ref.path is not None:
         return {"path": ref.path, "spec_sha256": world.spec_sha256}
-    return {"seed": ref.seed, "split": ref.split, "size_class": world.spec.size_class, "spec_sha256": world.spec_sha256}
+    entry = {
+        "seed": ref.seed,
+        "split": ref.split,
+        "size_class": world.spec.size_class,
+        "spec_sha256": world.spec_sha256,
+    }
+    if ref.generator is not None:  # left out for house-gen-1 houses, so v1 suite files keep their bytes
+        entry["generator"] = ref.generator
+    return entry
 
 
 def _found_in_half(goals: dict, house_ids: list[str]) -> list[str]:
@@ -292,11 +305,12 @@ def build_suite(name: str, cache_dir: str | None = None) -> dict:
             "unseen-envs": [HouseRef(seed=s, size_class="medium") for s in (200, 201, 202, 203)],
         }
         train_refs = []
-    elif name == "house-gen":
-        train_refs = [HouseRef(seed=s) for s in range(1000, 1040)]
+    elif name in ("house-gen", "house-gen-v2"):
+        gen = SUITE_GENERATORS.get(name)
+        train_refs = [HouseRef(seed=s, generator=gen) for s in range(1000, 1040)]
         eval_refs = {
-            "val": [HouseRef(seed=s, split="test") for s in range(2000, 2010)],
-            "test": [HouseRef(seed=s, split="test") for s in range(3000, 3010)],
+            "val": [HouseRef(seed=s, split="test", generator=gen) for s in range(2000, 2010)],
+            "test": [HouseRef(seed=s, split="test", generator=gen) for s in range(3000, 3010)],
         }
     else:
         raise UserError(f"unknown house suite {name!r}; known: {', '.join(SUITE_NAMES)}")

@@ -1,63 +1,187 @@
-"""Episode pictures for ``objsearch-eval --video DIR``: a top-down map (PNG) with the
-trajectory, the goal poses and a shortest path, and an MP4 of the egocentric view beside
-the map, one step a frame."""
+"""Episode pictures for ``objsearch-eval --video DIR``: a top-down map (PNG) and an MP4.
+
+The map is the house's plan (``objsearch.house.preview``) with the target's objects
+outlined, its goal poses, a shortest path and the agent's trajectory, under a title naming
+the target, the step count and the outcome, above a legend of those marks. The MP4 shows,
+one step a frame, the egocentric view with the same title, step count and legend under it,
+beside the map of the trajectory so far.
+"""
 
 from __future__ import annotations
 
 import os
 import tempfile
 from pathlib import Path
+from typing import Sequence
 
 import cv2
 import numpy as np
 
 from objsearch.fileio import atomic_write
-from objsearch.house.preview import MARGIN, PX, render_preview
+from objsearch.house.preview import (
+    HIGHLIGHT,
+    PX,
+    ROW_H,
+    SYMBOL_W,
+    TITLE_H,
+    LegendEntry,
+    PlanLayout,
+    draw_footer,
+    draw_legend,
+    draw_plan,
+    footer_height,
+    footer_top,
+    front_symbol,
+    legend_size,
+    plan_footer,
+    plan_layout,
+    put_text,
+)
 from objsearch.sim.navgraph import GRID, HEADING_VECTORS
 from objsearch.sim.world import World
 
 FPS = 4
-VIEW = 256  # egocentric view height in the video, pixels
+VIEW = 256  # egocentric view height (and width of the panel under it) in the video, pixels
+PANEL_H = 150  # the text panel under the view in the video
+TRAJECTORY = (40, 40, 220)  # BGR red
+SHORTEST = (200, 120, 40)  # BGR blue
+GOAL = (60, 170, 60)  # BGR green
+DASH = (10, 7)  # shortest path: pixels drawn, pixels skipped
 
 
-def _pixel(img_height: int, row: int, col: int) -> tuple[int, int]:
-    x, y = (col + 0.5) * GRID, (row + 0.5) * GRID
-    return int(round(MARGIN + x * PX)), int(round(img_height - MARGIN - y * PX))
+def map_title(target: str | None, steps: int | None = None, success: bool | None = None, min_steps=None) -> str:
+    """The map's title, e.g. ``target: coffee table - not found in 1000 steps (shortest 41)``:
+    the target category, then the steps taken and the outcome where known."""
+    title = f"target: {target.replace('_', ' ')}" if target else "episode"
+    if steps is not None:
+        outcome = {None: "", True: "found in ", False: "not found in "}[success]
+        title += f" - {outcome}{steps} step{'s' if steps != 1 else ''}"
+    if min_steps is not None:
+        title += f" (shortest {min_steps})"
+    return title
 
 
-def episode_map(world: World, start, goals, path_poses, trajectory) -> np.ndarray:
-    """Top-down map: goal poses (green), a shortest path (blue, dashed), the agent's
-    trajectory (red) from its start (ring) with its heading at the end (arrow)."""
-    img = _base_map(world, goals, path_poses)
+def _line_symbol(color, dashed=False):
+    def draw(img, x, y):
+        if dashed:
+            _dashed(img, [(x, y + 9), (x + SYMBOL_W - 1, y + 9)], color, 2)
+        else:
+            cv2.line(img, (x, y + 9), (x + SYMBOL_W - 1, y + 9), color, 3, cv2.LINE_AA)
+
+    return draw
+
+
+def _goal_symbol(img, x, y):
+    cv2.circle(img, (x + SYMBOL_W // 2, y + 9), 5, GOAL, -1, cv2.LINE_AA)
+
+
+def _start_symbol(img, x, y):
+    cv2.circle(img, (x + SYMBOL_W // 2, y + 9), 6, TRAJECTORY, 2, cv2.LINE_AA)
+
+
+def _end_symbol(img, x, y):
+    cv2.arrowedLine(img, (x + 4, y + 9), (x + SYMBOL_W - 3, y + 9), TRAJECTORY, 3, cv2.LINE_AA, tipLength=0.4)
+
+
+def _target_symbol(img, x, y):
+    cv2.rectangle(img, (x + 5, y + 3), (x + SYMBOL_W - 6, y + 15), HIGHLIGHT, 2, cv2.LINE_AA)
+
+
+def map_legend(target: str | None = None) -> list[LegendEntry]:
+    """The legend of an episode map: path taken, a shortest path, goal poses, start, end,
+    and the target's objects."""
+    name = target.replace("_", " ") if target else "target"
+    return [
+        ("path taken", _line_symbol(TRAJECTORY)),
+        ("a shortest path", _line_symbol(SHORTEST, dashed=True)),
+        ("goal poses", _goal_symbol),
+        ("start", _start_symbol),
+        ("end (heading)", _end_symbol),
+        (f"{name} (target)", _target_symbol),
+    ]
+
+
+def _pixel(layout: PlanLayout, row: float, col: float) -> tuple[int, int]:
+    return layout.pixel((col + 0.5) * GRID, (row + 0.5) * GRID)
+
+
+def _dashed(img: np.ndarray, points: Sequence[tuple[int, int]], color, thickness: int) -> None:
+    """A dashed polyline whose dashes run on across its corners."""
+    on, off = DASH
+    phase = 0.0
+    for a, b in zip(points[:-1], points[1:]):
+        a, b = np.array(a, float), np.array(b, float)
+        length = float(np.hypot(*(b - a)))
+        t = 0.0
+        while t < length:
+            in_dash = phase < on
+            step = min((on - phase) if in_dash else (on + off - phase), length - t)
+            if in_dash:
+                p, q = a + (b - a) * t / length, a + (b - a) * (t + step) / length
+                cv2.line(img, tuple(map(int, np.round(p))), tuple(map(int, np.round(q))), color, thickness, cv2.LINE_AA)
+            t += step
+            phase = (phase + step) % (on + off)
+
+
+def episode_map(
+    world: World,
+    start,
+    goals,
+    path_poses,
+    trajectory,
+    target: str | None = None,
+    success: bool | None = None,
+    min_steps: int | None = None,
+) -> np.ndarray:
+    """The episode's map (BGR): a title (``map_title``: ``target``, the steps of
+    ``trajectory``, ``success`` and ``min_steps`` where given), the plan with the target's
+    objects outlined (magenta), the goal poses (green), a shortest path ``path_poses``
+    (blue, dashed) and the agent's trajectory (red) from its start (ring) to its last pose
+    (arrow: heading), and a legend of those marks and the doors with the scale bar."""
+    spec = world.spec
+    entries = map_legend(target) + [e for e in plan_footer(spec) if e[1] is not front_symbol]
+    layout = plan_layout(spec, top=TITLE_H, bottom=footer_height(spec, entries), min_width=420)
+    img = _base_map(world, layout, goals, path_poses, target)
     for a, b in zip(trajectory[:-1], trajectory[1:]):
-        _draw_move(img, a, b)
-    _draw_agent(img, start, trajectory[-1])
+        _draw_move(img, layout, a, b)
+    _draw_agent(img, layout, start, trajectory[-1])
+    put_text(img, map_title(target, len(trajectory) - 1, success, min_steps), (layout.left, 21), 0.55)
+    draw_footer(img, spec, layout, entries, footer_top(layout))
     return img
 
 
-def _base_map(world: World, goals, path_poses) -> np.ndarray:
-    img = render_preview(world.spec)
-    h = img.shape[0]
+def _base_map(world: World, layout: PlanLayout, goals, path_poses, target: str | None) -> np.ndarray:
+    img = layout.canvas()
+    draw_plan(img, world.spec, layout, highlight=target)
     for row, col, heading in goals:
-        cv2.circle(img, _pixel(h, row, col), 6, (60, 170, 60), -1, cv2.LINE_AA)
-    for a, b in zip(path_poses[:-1], path_poses[1:]):
-        if (a[0], a[1]) != (b[0], b[1]):
-            cv2.line(img, _pixel(h, a[0], a[1]), _pixel(h, b[0], b[1]), (200, 120, 40), 2, cv2.LINE_4)
+        cv2.circle(img, _pixel(layout, row, col), 6, GOAL, -1, cv2.LINE_AA)
+    points = [_pixel(layout, p[0], p[1]) for p in path_poses]
+    points = [p for i, p in enumerate(points) if i == 0 or p != points[i - 1]]  # turns stay in place
+    _dashed(img, points, SHORTEST, 2)
     return img
 
 
-def _draw_move(img: np.ndarray, a, b) -> None:
-    h = img.shape[0]
-    cv2.line(img, _pixel(h, a[0], a[1]), _pixel(h, b[0], b[1]), (40, 40, 220), 3, cv2.LINE_AA)
+def _point(layout: PlanLayout, row: float, col: float, scale: float) -> tuple[int, int]:
+    """Pixel of the cell centre (row, col) on the map ``layout`` shrunk by ``scale``, in
+    quarter pixels (cv2's ``shift=2``), so that lines drawn on a small map stay smooth."""
+    x, y = layout.left + (col + 0.5) * GRID * PX, layout.top + layout.plan_h - (row + 0.5) * GRID * PX
+    return int(round(x * scale * 4)), int(round(y * scale * 4))
 
 
-def _draw_agent(img: np.ndarray, start, pose) -> None:
-    h = img.shape[0]
-    cv2.circle(img, _pixel(h, start[0], start[1]), 8, (40, 40, 220), 2, cv2.LINE_AA)
+def _draw_move(img: np.ndarray, layout: PlanLayout, a, b, scale: float = 1.0) -> None:
+    width = max(int(round(3 * scale)), 1)
+    p, q = _point(layout, a[0], a[1], scale), _point(layout, b[0], b[1], scale)
+    cv2.line(img, p, q, TRAJECTORY, width, cv2.LINE_AA, shift=2)
+
+
+def _draw_agent(img: np.ndarray, layout: PlanLayout, start, pose, scale: float = 1.0) -> None:
+    width = max(int(round(3 * scale)), 1)
+    ring = max(int(round(8 * scale * 4)), 4)
+    cv2.circle(img, _point(layout, start[0], start[1], scale), ring, TRAJECTORY, max(width - 1, 1), cv2.LINE_AA, 2)
     row, col, heading = pose
     dx, dy = HEADING_VECTORS[heading]
-    tip = _pixel(h, row + 1.5 * dy, col + 1.5 * dx)
-    cv2.arrowedLine(img, _pixel(h, row, col), tip, (40, 40, 220), 3, cv2.LINE_AA, tipLength=0.4)
+    tip = _point(layout, row + 1.5 * dy, col + 1.5 * dx, scale)
+    cv2.arrowedLine(img, _point(layout, row, col, scale), tip, TRAJECTORY, width, cv2.LINE_AA, 2, tipLength=0.4)
 
 
 def _encode_png(img: np.ndarray) -> bytes:
@@ -67,12 +191,29 @@ def _encode_png(img: np.ndarray) -> bytes:
     return data.tobytes()
 
 
-def write_episode(out_stem: str | Path, world: World, task, trajectory, views) -> None:
-    """Write ``<out_stem>.png`` (the map) and ``<out_stem>.mp4`` (view | map, per step).
+def _panel(target: str | None) -> np.ndarray:
+    """The video's text panel without its step line: the target and the legend."""
+    panel = np.full((PANEL_H, VIEW, 3), 255, np.uint8)
+    put_text(panel, f"target: {target.replace('_', ' ')}" if target else "episode", (6, 18), 0.5)
+    entries = map_legend(target)
+    if legend_size(entries, VIEW - 8)[1] > PANEL_H - 44:  # two columns of one entry a row
+        for i, (label, symbol) in enumerate(entries):
+            x, y = 4 + (i % 2) * (VIEW // 2), 44 + (i // 2) * ROW_H
+            symbol(panel, x, y)
+            put_text(panel, label, (x + SYMBOL_W + 4, y + 13), 0.36)
+    else:
+        draw_legend(panel, entries, 4, 44, VIEW - 8)
+    return panel
+
+
+def write_episode(out_stem: str | Path, world: World, task, trajectory, views, success: bool | None = None) -> None:
+    """Write ``<out_stem>.png`` (the map) and ``<out_stem>.mp4`` (view and text | map, per step).
 
     Args:
+        task: the episode's ``HouseTask`` (start, target, goals, min_steps).
         trajectory: (row, col, heading) of every pose visited, the start first.
         views: the RGB observation at each of those poses (uint8 H x W x 3).
+        success: whether the target was found (None: not known, not shown).
     """
     out_stem = Path(out_stem)
     graph = world.graph
@@ -82,31 +223,46 @@ def write_episode(out_stem: str | Path, world: World, task, trajectory, views) -
     for action in graph.shortest_path(start, goal_ids):
         pose = int(graph.next_pose[pose, action])
         path.append(graph.pose_of(pose))
-    final = episode_map(world, task.start, task.goals, path, trajectory)
+    target, min_steps = getattr(task, "target", None), getattr(task, "min_steps", None)
+    final = episode_map(world, task.start, task.goals, path, trajectory, target, success, min_steps)
     with atomic_write(out_stem.with_suffix(".png"), "wb") as f:
         f.write(_encode_png(final))
 
-    scale = VIEW / final.shape[0]
-    map_w = int(round(final.shape[1] * scale))
+    layout = plan_layout(world.spec)  # the video's map: the plan alone, the text is in the panel
+    height = VIEW + PANEL_H
+    map_w = int(round(layout.width * height / layout.height)) // 2 * 2
     view_w = int(round(views[0].shape[1] * VIEW / views[0].shape[0]))
-    size = (view_w + map_w, VIEW)
+    size = (max(view_w, VIEW) + map_w, height)
+    panel = _panel(target)
+    last = len(trajectory) - 1
     fd, tmp = tempfile.mkstemp(dir=out_stem.parent, suffix=".mp4")
     os.close(fd)
+    mask = os.umask(0)
+    os.umask(mask)
+    os.chmod(tmp, 0o666 & ~mask)  # mkstemp makes 0600; give the video the usual mode
     try:
         writer = cv2.VideoWriter(tmp, cv2.VideoWriter_fourcc(*"mp4v"), FPS, size)
-        drawn = _base_map(
-            world, task.goals, path
-        )  # the map of each step is this one's trajectory so far, and the agent
+        scale = map_w / layout.width  # the map is shrunk once; each step draws its move on it
+        drawn = cv2.resize(
+            _base_map(world, layout, task.goals, path, target), (map_w, height), interpolation=cv2.INTER_AREA
+        )
+        blank = np.full((height, size[0], 3), 255, np.uint8)
         for step in range(len(trajectory)):
-            frame = np.zeros((VIEW, size[0], 3), np.uint8)
-            frame[:, :view_w] = cv2.resize(
+            frame = blank.copy()
+            frame[:VIEW, :view_w] = cv2.resize(
                 np.ascontiguousarray(views[step][:, :, ::-1]), (view_w, VIEW), interpolation=cv2.INTER_NEAREST
             )
+            text = frame[VIEW:, :VIEW]
+            text[:] = panel
+            line = f"step {step}" + (f" (shortest {min_steps})" if min_steps is not None else "")
+            if step == last and success is not None:
+                line += " - found" if success else " - not found"
+            put_text(text, line, (6, 36), 0.45)
             if step:
-                _draw_move(drawn, trajectory[step - 1], trajectory[step])
-            step_map = drawn.copy()
-            _draw_agent(step_map, task.start, trajectory[step])
-            frame[:, view_w:] = cv2.resize(step_map, (map_w, VIEW), interpolation=cv2.INTER_AREA)
+                _draw_move(drawn, layout, trajectory[step - 1], trajectory[step], scale)
+            step_map = frame[:, size[0] - map_w :]
+            step_map[:] = drawn
+            _draw_agent(step_map, layout, task.start, trajectory[step], scale)
             writer.write(frame)
         writer.release()
         os.replace(tmp, out_stem.with_suffix(".mp4"))

@@ -31,6 +31,8 @@ class HouseRef:
 
     Attributes:
         seed, split, size_class: regenerate with ``objsearch.house.generate``.
+        generator: the generator version to regenerate with (None: ``house-gen-1``; unset fields
+            are left out of ``to_json``, so references to ``house-gen-1`` houses keep their bytes).
         path: a house directory (``house.xml`` + ``spec.json``) instead of a seed.
         spec_sha256: if set, the house's spec must hash to it.
     """
@@ -40,6 +42,7 @@ class HouseRef:
     size_class: str | None = None
     path: str | None = None
     spec_sha256: str | None = None
+    generator: str | None = None
 
     def to_json(self) -> dict:
         """The reference as a JSON dict, without its unset (None) fields."""
@@ -72,7 +75,9 @@ class World:
         else:
             from objsearch.house.generate import generate_house
 
-            house = generate_house(ref.seed, ref.size_class, ref.split, validate=False)
+            house = generate_house(
+                ref.seed, ref.size_class, ref.split, validate=False, generator=ref.generator or "house-gen-1"
+            )
             world = cls(house.spec, house.model)
         if ref.spec_sha256 is not None and world.spec_sha256 != ref.spec_sha256:
             raise UserError(

@@ -39,7 +39,7 @@ def test_suite_files_are_consistent(name):
         assert len(seen) == len(unseen) == 4 and not seen & unseen
 
 
-@pytest.mark.parametrize("name", ["house-single", "house-multi"])
+@pytest.mark.parametrize("name", ["house-single", "house-multi", "house-gen-v2"])
 def test_oracle_is_perfect_on_every_split(name):
     results = evaluate(
         EvalConfig(agent="oracle", suite=name, seeds=(1,), suite_config={"mode": "live"}), progress=False

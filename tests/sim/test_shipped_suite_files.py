@@ -12,6 +12,7 @@ SHIPPED = {
     "house-single": ("house-single-v1", "92605b57d05a25798de3476edf63f8415f3e998fc6b2458799985981fdad1fda"),
     "house-multi": ("house-multi-v1", "3f68c77d2efbd5b28ab0f1cd9e36b187a09a1be34842bfdab716e2b9e959a306"),
     "house-gen": ("house-gen-v1", "6e206f26a198e48096b684235e5cb1054fe1068e8950c7ca4d1e331bc7122a09"),
+    "house-gen-v2": ("house-gen-v2-v1", "c62052da5878932444d6cc157f886bbc19333a77f595b7b3217f4c0bfd6d0cc0"),
 }
 
 

@@ -138,4 +138,4 @@ class HouseSuite:
         stem = Path(directory) / f"{record['split']}_seed{record['seed']}_ep{record['episode_id']:04d}"
         poses = [info["pose"] for _, info in trajectory]
         views = [obs["rgb"] for obs, _ in trajectory]
-        write_episode(stem, self.worlds[episode.task.house], episode.task, poses, views)
+        write_episode(stem, self.worlds[episode.task.house], episode.task, poses, views, success=record["success"])

@@ -1,0 +1,277 @@
+"""Stages 4-5 of ``house-gen-2``: ``house-gen-1``'s furniture groups and fill, in rooms of any
+rectilinear shape, topped up so that the number of objects follows the room's area.
+
+* The groups go into the room's largest rectangle (``main_rect``); the top-up then sees the
+  whole room: its bounding box less its walls, with the parts of the box outside the room
+  (the notch of an L) blocked, grown by the wall, so nothing stands in them.
+* Door keep-outs lie on the room's side of each door, found with the room's polygon (an L has
+  doors on edges that are not on its bounding box).
+* A corridor keeps a free passage along its middle (``PASSAGE`` wide).
+* Large kitchens get a table with chairs (``KITCHEN_TABLE``), so a kitchen is not an empty floor.
+* Fill: after the groups and ``house-gen-1``'s per-type fill, categories of the room's type
+  (weighted by their affinity) are tried until the room holds ``FILL_DENSITY`` objects per
+  square metre; small objects go onto the receptacles their category names (``parents``).
+"""
+
+from __future__ import annotations
+
+import math
+
+from objsearch.house.categories import CATEGORIES, category
+from objsearch.house.doors_v2 import inward
+from objsearch.house.floorplan import StageFailure
+from objsearch.house.furnish import (
+    BED_CORRIDOR,
+    DOOR_CLEARANCE,
+    MANDATORY,
+    _u_of,
+    bed_group,
+    dining_group,
+    furnish_room,
+)
+from objsearch.house.layout import HouseContext, RoomLayout
+from objsearch.house.spec import Door, ObjectInstance, Room, r4
+
+FILL_DENSITY = 0.4  # objects per square metre the top-up aims at
+WIDE = 3.2  # a room's main rectangle is at least this wide on both sides where it can be
+JUNCTION = 0.55  # free depth kept inside the main rectangle where it opens into the rest of an L
+NARROW = 1.6  # parts of an L narrower than this stay free (a passage, not a place for things)
+TUB_AREA = 5.5  # interior m^2 from which a bathroom may get a bathtub
+PASSAGE = 0.75  # free width kept along a corridor's middle
+KITCHEN_TABLE = (9.5, 0.7)  # (minimum area m^2, probability) of a table in a kitchen
+
+
+def bathroom_group(L: RoomLayout, gid: str) -> bool:
+    """Bathroom group for small bathrooms: toilet (+ paper) and sink (+ mirror) first, then a bathtub
+    (from ``TUB_AREA``) and a towel (above the tub, else on a free wall); False without toilet or sink."""
+    rng = L.rng
+    x0, y0, x1, y1 = L.interior
+    toilet = L.try_wall(category("toilet"), access=0.5, group=gid)
+    if toilet is None:
+        return False
+    if rng.random() < 0.8:
+        side, u = _u_of(L, toilet)
+        tp = L.sample_size(category("toilet_paper"))
+        for sign in (1, -1):
+            uu = u + sign * (toilet.size[0] / 2 + 0.12 + tp[0] / 2)
+            if L.try_on_wall(
+                category("toilet_paper"), tp, tries=1, side=side, u_range=(uu, uu), z=rng.uniform(0.6, 0.72), group=gid
+            ):
+                break
+    sink = L.try_wall(category("sink"), access=0.5, group=gid)
+    if sink is None:
+        return False
+    side, u = _u_of(L, sink)
+    mirror = L.sample_size(category("mirror"), max_width=sink.size[0] + 0.1)
+    L.try_on_wall(
+        category("mirror"),
+        mirror,
+        tries=3,
+        side=side,
+        u_range=(u, u),
+        z=sink.size[2] + rng.uniform(0.25, 0.4),
+        group=gid,
+    )
+    tub = None
+    if (x1 - x0) * (y1 - y0) >= TUB_AREA and rng.random() < 0.8:
+        tub = L.try_wall(category("bathtub"), corner=True, access=0.5, group=gid)
+    towel = L.sample_size(category("towel"))
+    if tub:
+        side, u = _u_of(L, tub)
+        half = (tub.size[0] - towel[0]) / 2 - 0.02
+        L.try_on_wall(
+            category("towel"),
+            towel,
+            side=side,
+            u_range=(u - half, u + half),
+            z=tub.size[2] + rng.uniform(0.4, 0.6),
+            group=gid,
+        )
+    else:
+        L.try_on_wall(category("towel"), towel, z=rng.uniform(0.9, 1.2), group=gid)
+    return True
+
+
+def bed_group_v2(L: RoomLayout, gid: str) -> bool:
+    """``house-gen-1``'s bed group, and the floor at the foot of the bed kept free across the bed and
+    both of its side corridors (so that later furniture cannot close a corridor off); False if it does not fit."""
+    if not bed_group(L, gid):
+        return False
+    bed = next(o for o in reversed(L.objects) if o.category == "bed")
+    x0, y0, x1, y1 = bed.footprint
+    fx, fy = bed.front
+    side, depth = BED_CORRIDOR + 0.6, 0.6
+    if abs(fx) > 0.5:
+        rect = (x1, y0 - side, x1 + depth, y1 + side) if fx > 0 else (x0 - depth, y0 - side, x0, y1 + side)
+    else:
+        rect = (x0 - side, y1, x1 + side, y1 + depth) if fy > 0 else (x0 - side, y0 - depth, x1 + side, y0)
+    L.block((rect[0], rect[1], 0.0, rect[2], rect[3], 10.0))
+    return True
+
+
+MANDATORY_V2 = {**MANDATORY, "bathroom": [("bathroom", bathroom_group)], "bedroom": [("bed", bed_group_v2)]}
+
+
+def notches(room: Room) -> list[tuple[float, float, float, float]]:
+    """The parts (x0, y0, x1, y1) of the room's bounding box that are outside its polygon."""
+    if len(room.polygon) == 4:
+        return []
+    xs = sorted({p[0] for p in room.polygon})
+    ys = sorted({p[1] for p in room.polygon})
+    return [
+        (x0, y0, x1, y1)
+        for y0, y1 in zip(ys, ys[1:])
+        for x0, x1 in zip(xs, xs[1:])
+        if not room.contains((x0 + x1) / 2, (y0 + y1) / 2)
+    ]
+
+
+def door_keepouts(L: RoomLayout, room: Room, doors: list[Door]) -> None:
+    """Keep the floor in front of every door of ``room`` free, full height, on the room's side."""
+    for d in doors:
+        if room.id not in d.rooms:
+            continue
+        cx, cy = d.center
+        w = d.width / 2 + 0.1
+        dx, dy = inward(room.polygon, d)
+        if d.axis == "x":
+            y0, y1 = sorted((cy, cy + dy * DOOR_CLEARANCE))
+            L.block((cx - w, y0, 0.0, cx + w, y1, 10.0))
+        else:
+            x0, x1 = sorted((cx, cx + dx * DOOR_CLEARANCE))
+            L.block((x0, cy - w, 0.0, x1, cy + w, 10.0))
+
+
+def _passage(L: RoomLayout) -> None:
+    x0, y0, x1, y1 = L.interior
+    if x1 - x0 >= y1 - y0:
+        m = (y0 + y1) / 2
+        L.block((x0, m - PASSAGE / 2, 0.0, x1, m + PASSAGE / 2, 10.0))
+    else:
+        m = (x0 + x1) / 2
+        L.block((m - PASSAGE / 2, y0, 0.0, m + PASSAGE / 2, y1, 10.0))
+
+
+def top_up(L: RoomLayout, area: float) -> None:
+    """Try fill categories of the room's type (by affinity) until it holds ``FILL_DENSITY`` objects per m^2."""
+    rng = L.rng
+    fill = [c for c in CATEGORIES if L.type in c.rooms and c.placement != "group"]
+    if not fill:
+        return
+    weights = [c.rooms[L.type] for c in fill]
+    total = sum(weights)
+    target = math.ceil(FILL_DENSITY * area)
+    for _ in range(3 * target):
+        if len(L.objects) >= target:
+            break
+        cat = fill[int(rng.choice(len(fill), p=[w / total for w in weights]))]
+        L.try_category(cat.name)
+
+
+def main_rect(room: Room) -> tuple[float, float, float, float]:
+    """The largest rectangle (x0, y0, x1, y1) of the room's vertex grid that lies inside the room,
+    among those at least ``WIDE`` on both sides if there are any."""
+    if len(room.polygon) == 4:
+        return room.bounds
+    xs = sorted({p[0] for p in room.polygon})
+    ys = sorted({p[1] for p in room.polygon})
+    inside = {
+        (i, j): room.contains((xs[i] + xs[i + 1]) / 2, (ys[j] + ys[j + 1]) / 2)
+        for i in range(len(xs) - 1)
+        for j in range(len(ys) - 1)
+    }
+    best, best_area = room.bounds, -1.0
+    for i0 in range(len(xs) - 1):
+        for i1 in range(i0 + 1, len(xs)):
+            for j0 in range(len(ys) - 1):
+                for j1 in range(j0 + 1, len(ys)):
+                    w, d = xs[i1] - xs[i0], ys[j1] - ys[j0]
+                    area = w * d + (100.0 if min(w, d) >= WIDE else 0.0)  # wide enough for a group first
+                    if area > best_area and all(inside[i, j] for i in range(i0, i1) for j in range(j0, j1)):
+                        best, best_area = (xs[i0], ys[j0], xs[i1], ys[j1]), area
+    return best
+
+
+def _open_sides(room: Room, rect, h: float) -> list[tuple[float, float, float, float, float, float]]:
+    """Keep-outs ``JUNCTION`` deep along the parts of ``rect``'s sides that open into the rest of the room:
+    no wall to stand things against, and the way between the parts of an L stays free."""
+    x0, y0, x1, y1 = rect
+    out, d = [], JUNCTION
+    for px0, py0, px1, py1 in room.rects():
+        if (px0, py0, px1, py1) == tuple(rect) or (x0 <= px0 and px1 <= x1 and y0 <= py0 and py1 <= y1):
+            continue
+        a, b = max(x0, px0), min(x1, px1)
+        if b - a > 1e-6 and abs(py0 - y1) < 1e-6:
+            out.append((a, y1 - h - d, 0.0, b, y1, 10.0))
+        if b - a > 1e-6 and abs(py1 - y0) < 1e-6:
+            out.append((a, y0, 0.0, b, y0 + h + d, 10.0))
+        a, b = max(y0, py0), min(y1, py1)
+        if b - a > 1e-6 and abs(px0 - x1) < 1e-6:
+            out.append((x1 - h - d, a, 0.0, x1, b, 10.0))
+        if b - a > 1e-6 and abs(px1 - x0) < 1e-6:
+            out.append((x0, a, 0.0, x0 + h + d, b, 10.0))
+    return out
+
+
+def _shrunk(rect, h: float):
+    x0, y0, x1, y1 = rect
+    return (r4(x0 + h), r4(y0 + h), r4(x1 - h), r4(y1 - h))
+
+
+def _whole(ctx: HouseContext, room: Room, doors: list[Door], wall_height: float, h: float, blocks) -> RoomLayout:
+    """A layout over the room's whole bounding box, its notches blocked (and ``blocks``, or its door keep-outs)."""
+    L = RoomLayout(ctx, room.id, room.type, _shrunk(room.bounds, h), wall_height)
+    if blocks:
+        L.blocks = list(blocks)
+    else:
+        door_keepouts(L, room, doors)
+    for nx0, ny0, nx1, ny1 in notches(room):
+        L.block((nx0 - h, ny0 - h, 0.0, nx1 + h, ny1 + h, 10.0))
+    return L
+
+
+def furnish(
+    ctx: HouseContext, rooms: list[Room], doors: list[Door], wall_height: float, thickness: float
+) -> list[ObjectInstance]:
+    """Furnish every room of a ``house-gen-2`` house and return all objects placed.
+
+    The groups and the per-type fill go into the room's largest rectangle (the whole room
+    unless it is an L; the sides where it opens into the rest of the room count as no wall);
+    the top-up then fills the whole room, around what stands.
+    """
+    types = [r.type for r in rooms]
+    h = thickness / 2
+    for room in rooms:
+        main = main_rect(room)
+        L = RoomLayout(ctx, room.id, room.type, _shrunk(main, h), wall_height)
+        door_keepouts(L, room, doors)
+        for box in _open_sides(room, main, h):
+            L.block(box)
+        if room.type == "hallway" and min(main[2] - main[0], main[3] - main[1]) < 2.4:
+            _passage(L)
+        placed = len(ctx.objects)
+        try:
+            furnish_room(L, types, MANDATORY_V2)
+        except StageFailure:
+            if len(room.polygon) == 4 or len(ctx.objects) != placed:
+                raise
+            # the group (which placed nothing) may fit across the whole L
+            L = _whole(ctx, room, doors, wall_height, h, [])
+            furnish_room(L, types, MANDATORY_V2)
+            main = room.bounds
+        if (
+            room.type == "kitchen"
+            and room.area >= KITCHEN_TABLE[0]
+            and not any(o.category == "dining_table" for o in L.objects)
+            and ctx.rng.random() < KITCHEN_TABLE[1]
+        ):
+            dining_group(L, f"dining_{room.id}")
+        if len(room.polygon) > 4 and main != room.bounds:  # the top-up sees the whole room
+            whole = _whole(ctx, room, doors, wall_height, h, L.blocks)
+            whole.objects = list(L.objects)
+            for px0, py0, px1, py1 in room.rects():
+                if min(px1 - px0, py1 - py0) < NARROW:
+                    whole.block((px0, py0, 0.0, px1, py1, 10.0))
+            L = whole
+        top_up(L, room.area)
+    return ctx.objects

@@ -1,0 +1,69 @@
+"""The stages of generator ``house-gen-2``: zoned floorplan -> doors and entrance -> walls ->
+furniture and fill, as one ``build_spec`` (selected by ``generate_house(..., generator="house-gen-2")``).
+
+Randomness: ``numpy.random.default_rng([seed, attempt, split, STREAM])``, so ``house-gen-2``
+houses are independent of ``house-gen-1`` houses of the same seed. The size class (3-4, 4-6
+or 6-9 rooms) is drawn per seed as in ``house-gen-1``; the footprint then follows the rooms.
+Bump ``VERSION`` (to ``house-gen-3``, keeping this one loadable) whenever the same seed would
+give a different house.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from objsearch.house.categories import CATEGORY_TABLE_VERSION
+from objsearch.house.doors_v2 import build_walls, place_doors
+from objsearch.house.floorplan import SIZE_CLASSES
+from objsearch.house.floorplan_v2 import plan_house, room_program
+from objsearch.house.furnish_v2 import furnish
+from objsearch.house.layout import HouseContext
+from objsearch.house.materials import EXTERIOR, room_materials
+from objsearch.house.spec import HouseSpec, Room
+
+VERSION = "house-gen-2"
+STREAM = 2
+WALL_HEIGHT = 2.7
+WALL_THICKNESS = 0.12
+
+
+def build_spec(seed: int, size_class: str, split: str, attempt: int, furnished: bool = True) -> HouseSpec:
+    """Run the ``house-gen-2`` stages once; raises ``StageFailure`` when a rule cannot be met.
+
+    ``furnished=False`` stops after the walls (a house without objects: the floorplan stages only).
+    """
+    from objsearch.house.generate import SPLITS, house_id
+
+    rng = np.random.default_rng([seed, attempt, SPLITS[split], STREAM])
+    lo, hi = SIZE_CLASSES[size_class]["rooms"]
+    types = room_program(int(rng.integers(lo, hi + 1)), rng)
+    plan = plan_house(types, rng)
+    doors = place_doors(plan, rng, WALL_THICKNESS)
+    materials, rooms = [], []
+    for i, (poly, t) in enumerate(zip(plan.polygons, plan.types)):
+        floor, wall = room_materials(i, t, rng)
+        materials += [floor, wall]
+        rooms.append(Room(i, t, poly, floor.name, wall.name))
+    materials.append(EXTERIOR)
+    footprint = (plan.width, plan.depth)
+    walls = build_walls(
+        plan.polygons, doors, footprint, WALL_THICKNESS, WALL_HEIGHT, [r.wall_material for r in rooms], EXTERIOR.name
+    )
+    objects = furnish(HouseContext(rng, split), rooms, doors, WALL_HEIGHT, WALL_THICKNESS) if furnished else []
+    return HouseSpec(
+        house_id=house_id(seed, split),
+        seed=seed,
+        split=split,
+        size_class=size_class,
+        attempt=attempt,
+        generator_version=VERSION,
+        category_table_version=CATEGORY_TABLE_VERSION,
+        footprint=footprint,
+        wall_height=WALL_HEIGHT,
+        wall_thickness=WALL_THICKNESS,
+        rooms=tuple(rooms),
+        doors=tuple(doors),
+        walls=tuple(walls),
+        objects=tuple(objects),
+        materials=tuple(materials),
+    )
