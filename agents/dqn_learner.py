@@ -30,8 +30,8 @@ class Learner:
         self.online = net
         self.target = copy.deepcopy(net).requires_grad_(False)
         self.optimizer = torch.optim.RMSprop(
-            net.parameters(), lr=config.lr, alpha=config.rmsprop_alpha, eps=config.rmsprop_eps
-        )
+            net.parameters(), lr=config.lr, alpha=config.rmsprop_alpha, eps=config.rmsprop_eps, foreach=True
+        )  # foreach: the same numbers as the per-tensor loop, fewer calls
         self.max_grad_norm = config.max_grad_norm
         self.gamma = config.gamma
 
@@ -93,14 +93,13 @@ def grg_high_loss(learner: Learner, batch: dict, weights_of_goal: np.ndarray) ->
     obs, nxt = batch["obs"], batch["next_obs"]
     weights = weights_of_goal[batch["goal"]]
     rows = np.arange(len(obs))
-    taken = candidate_inputs(obs, weights)[rows, batch["subgoal"]]
-    q = learner.online(torch.from_numpy(taken))[:, 0]
+    q = learner.online(torch.from_numpy(candidate_inputs(obs, weights, rows, batch["subgoal"])))[:, 0]
     with torch.no_grad():
         cand = candidates(nxt)
-        inputs = candidate_inputs(nxt, weights)
         env_ix, node_ix = np.nonzero(cand)
         scores = np.full(cand.shape, -np.inf, dtype=np.float32)
-        scores[env_ix, node_ix] = learner.online(torch.from_numpy(inputs[env_ix, node_ix]))[:, 0].numpy()
+        inputs = candidate_inputs(nxt, weights, env_ix, node_ix)
+        scores[env_ix, node_ix] = learner.online(torch.from_numpy(inputs))[:, 0].numpy()
         best = scores.argmax(axis=1)
-        next_q = learner.target(torch.from_numpy(inputs[rows, best]))[:, 0]
+        next_q = learner.target(torch.from_numpy(candidate_inputs(nxt, weights, rows, best)))[:, 0]
     return td_loss(q, batch["reward"], batch["done"], next_q, learner.gamma)

@@ -52,14 +52,18 @@ def goal_input(images: np.ndarray, node: np.ndarray) -> np.ndarray:
     return out
 
 
-def candidate_inputs(images: np.ndarray, weights: np.ndarray) -> np.ndarray:
-    """float32 (N, G+1, 2, 7, 7): for every candidate node, (obstacles, its channel times its
-    weight). "random" has no cell: its channel is all ones times its weight."""
-    n, channels = len(images), images.shape[1]
-    out = np.empty((n, channels, 2, *images.shape[2:]), dtype=np.float32)
-    out[:, :, 0] = images[:, None, 0]
-    out[:, :-1, 1] = images[:, 1:] * weights[:, :-1, None, None]
-    out[:, -1, 1] = weights[:, -1, None, None]
+def candidate_inputs(images: np.ndarray, weights: np.ndarray, rows: np.ndarray, nodes: np.ndarray) -> np.ndarray:
+    """float32 (P, 2, 7, 7): for each pair (``rows[p]``, ``nodes[p]``) of an image and a
+    candidate node, (obstacles, the node's channel times its weight ``weights[row, node]``).
+    "random" has no cell: its channel is all ones times its weight. Only the pairs asked
+    for are built (a batch scores ~5 of its 17 nodes)."""
+    channels = images.shape[1]
+    out = np.empty((len(rows), 2, *images.shape[2:]), dtype=np.float32)
+    out[:, 0] = images[rows, 0]
+    w = weights[rows, nodes]
+    real = nodes < channels - 1
+    out[real, 1] = images[rows[real], 1 + nodes[real]] * w[real, None, None]
+    out[~real, 1] = w[~real, None, None]
     return out
 
 
@@ -165,10 +169,10 @@ class GridPolicy:
         """argmax over the candidates of Q(obstacles, candidate channel * C), one forward
         pass for all (env, candidate) pairs."""
         net = self.high if net is None else net
-        inputs = candidate_inputs(images, self.relation_weights(values))
         env_ix, node_ix = np.nonzero(cand)
+        inputs = candidate_inputs(images, self.relation_weights(values), env_ix, node_ix)
         q = np.full(cand.shape, -np.inf, dtype=np.float32)
-        q[env_ix, node_ix] = net(torch.from_numpy(inputs[env_ix, node_ix]))[:, 0].numpy()
+        q[env_ix, node_ix] = net(torch.from_numpy(inputs))[:, 0].numpy()
         return q.argmax(axis=1)
 
     @torch.no_grad()

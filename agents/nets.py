@@ -48,10 +48,10 @@ class ConvTrunk(nn.Module):
 
     def forward(self, x: torch.Tensor) -> torch.Tensor:
         conv1, relu1, conv50, relu50, pool1, conv100, relu100, pool2, flatten = self.layers
-        h = relu50(conv50(relu1(conv1(x))))
-        # CPU max-pooling is ~10x faster on channels-last tensors (same values).
-        h = pool1(h.contiguous(memory_format=torch.channels_last))
-        return flatten(pool2(relu100(conv100(h))))
+        # CPU max-pooling is ~10x faster on channels-last tensors (same values); converting
+        # before the ReLU keeps its backward in one memory format (same values, faster).
+        h = relu50(conv50(relu1(conv1(x))).contiguous(memory_format=torch.channels_last))
+        return flatten(pool2(relu100(conv100(pool1(h)))))
 
 
 class QNet(nn.Module):
