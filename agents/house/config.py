@@ -85,6 +85,10 @@ class HouseAgentConfig(JsonConfig):
     """Hierarchical methods: a ``policy.pt`` whose actor-critic runs the back-up node's options,
     e.g. the suite's trained ``a3c``, which learned to move through the training houses with
     the target out of view (empty: the low level on depth alone, as the authors' code)."""
+    explorer_target: bool = False
+    """With ``explorer``: point the explorer at the episode's target (the A3C's own input: the
+    target's mask and depth), so the back-up node searches for the target, approaching it
+    once in view (False: the back-up node's empty mask)."""
     train_low: bool = False
     """Hierarchical methods: keep training the low level (A2C, ``ac_lr``) on the intrinsic reward, 1 on
     reaching the option's sub-goal, as the authors' code does (False: the pretrained approach policy, frozen)."""
@@ -100,11 +104,15 @@ class HouseAgentConfig(JsonConfig):
             raise UserError(f"method must be one of {METHODS}, not {self.method!r}")
         if self.observation not in ("gt", "predicted"):
             raise UserError(f"observation must be gt or predicted, not {self.observation!r}")
-        for flag in ("explorer", "train_low"):
+        for flag in ("explorer", "explorer_target", "train_low"):
             if getattr(self, flag) and not self.hierarchical:
                 raise UserError(
                     f"{flag} applies to the hierarchical methods (hdqn, hrl_grg), not {self.method}; drop it"
                 )
+        if self.explorer_target and not self.explorer:
+            raise UserError(
+                "explorer_target=true needs an explorer (--set explorer=PATH/policy.pt); drop it or add one"
+            )
         require_at_least(
             self,
             (

@@ -212,7 +212,10 @@ class HousePolicy:
         if self.explore is not None:  # the back-up node's options: the explorer's policy
             rows = np.flatnonzero(self.subgoal == RANDOM)
             if len(rows):
-                logits[rows] = self.explore(*(_t(x[rows]) for x in inputs))[0]
+                explore_in = [x[rows] for x in inputs]
+                if self.config.explorer_target:  # the explorer searches for the target itself
+                    explore_in = low_input(tables, hist[rows], self.target[rows])
+                logits[rows] = self.explore(*map(_t, explore_in))[0]
         return sample_actions(logits, rng), inputs
 
     def advance(self, tables: ObservationTables, hist: np.ndarray, episode_over: np.ndarray, count: bool) -> np.ndarray:

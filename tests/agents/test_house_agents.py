@@ -151,6 +151,39 @@ def test_the_explorer_acts_for_the_back_up_node_only():
     assert actions.tolist() == [3, 0, 3, 0]
 
 
+def test_explorer_target_points_the_explorer_at_the_target():
+    from objsearch_agents.house.policy import RANDOM
+
+    bed, lamp = CATEGORY_IDS["bed"], CATEGORY_IDS["floor_lamp"]
+    tables = synthetic_tables([{bed: 30, lamp: 30}])
+    seen = {}
+
+    class Recorder(torch.nn.Module):
+        def forward(self, mask, depth):
+            seen["mask"] = mask.clone()
+            return torch.zeros(len(mask), 6), torch.zeros(len(mask))
+
+    for explorer_target, expected in ((False, None), (True, bed)):
+        config = replace(
+            HouseAgentConfig(), method="hrl_grg", explorer="a3c/policy.pt", explorer_target=explorer_target
+        )
+        policy = HousePolicy(config)
+        policy.explore = Recorder()
+        policy.start(2)
+        policy.begin_episodes(np.arange(2), np.full(2, bed))
+        policy.subgoal[:] = [RANDOM, lamp - FIRST_OBJECT_ID]
+        hist = np.zeros((2, 4), np.int64)
+        policy.actions(tables, hist, np.zeros(2), np.random.default_rng(0))
+        assert len(seen["mask"]) == 1  # the back-up node's row only
+        want = (
+            np.zeros_like(seen["mask"][0].numpy()) if expected is None else tables.masks(hist[:1], np.array([bed]))[0]
+        )
+        np.testing.assert_array_equal(seen["mask"][0].numpy(), want)
+    assert tables.masks(hist[:1], np.array([bed])).any()  # the target is in view: the two cases differ
+    with pytest.raises(UserError, match="explorer_target"):
+        replace(HouseAgentConfig(), method="hrl_grg", explorer_target=True)
+
+
 def approach_success(houses, act, episodes=256, max_steps=30, seed=5, pool="approach") -> float:
     """Success within ``max_steps`` from the nearest starts of ``pool`` (a trivial task)."""
     rng = np.random.default_rng(seed)
