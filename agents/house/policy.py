@@ -213,8 +213,8 @@ class HousePolicy:
             rows = np.flatnonzero(self.subgoal == RANDOM)
             if len(rows):
                 explore_in = [x[rows] for x in inputs]
-                if self.config.explorer_target:  # the explorer searches for the target itself
-                    explore_in = low_input(tables, hist[rows], self.target[rows])
+                if self.config.explorer_target:  # the explorer searches for the target: its mask, the same depth
+                    explore_in[0] = tables.masks(hist[rows], self.target[rows])
                 logits[rows] = self.explore(*map(_t, explore_in))[0]
         return sample_actions(logits, rng), inputs
 

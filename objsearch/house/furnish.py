@@ -220,12 +220,13 @@ def bed_group(L: RoomLayout, gid: str) -> bool:
     return False
 
 
-def bathroom_group(L: RoomLayout, gid: str) -> bool:
-    """Bathroom group: toilet with paper, sink with a mirror, bathtub with a towel; False without toilet or sink."""
+def tub_with_towel(L: RoomLayout, gid: str, min_area: float) -> None:
+    """A bathtub in a corner (from ``min_area`` m^2 of interior, 80% of the time) with a towel on
+    the wall above it, else a towel on a free wall."""
     rng = L.rng
     x0, y0, x1, y1 = L.interior
     tub = None
-    if (x1 - x0) * (y1 - y0) >= 4.0 and rng.random() < 0.8:
+    if (x1 - x0) * (y1 - y0) >= min_area and rng.random() < 0.8:
         tub = L.try_wall(category("bathtub"), corner=True, access=0.5, group=gid)
     towel = L.sample_size(category("towel"))
     if tub:
@@ -241,6 +242,12 @@ def bathroom_group(L: RoomLayout, gid: str) -> bool:
         )
     else:
         L.try_on_wall(category("towel"), towel, z=rng.uniform(0.9, 1.2), group=gid)
+
+
+def toilet_and_sink(L: RoomLayout, gid: str) -> bool:
+    """A toilet (with toilet paper beside it, 80% of the time), then a sink with a mirror above
+    it; False if the toilet or the sink does not fit."""
+    rng = L.rng
     toilet = L.try_wall(category("toilet"), access=0.5, group=gid)
     if toilet is None:
         return False
@@ -268,6 +275,12 @@ def bathroom_group(L: RoomLayout, gid: str) -> bool:
         group=gid,
     )
     return True
+
+
+def bathroom_group(L: RoomLayout, gid: str) -> bool:
+    """Bathroom group: bathtub with a towel, toilet with paper, sink with a mirror; False without toilet or sink."""
+    tub_with_towel(L, gid, min_area=4.0)
+    return toilet_and_sink(L, gid)
 
 
 def desk_group(L: RoomLayout, gid: str, computer: bool = True) -> bool:

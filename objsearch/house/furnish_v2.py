@@ -17,17 +17,18 @@ from __future__ import annotations
 
 import math
 
-from objsearch.house.categories import CATEGORIES, category
+from objsearch.house.categories import CATEGORIES
 from objsearch.house.doors_v2 import inward
 from objsearch.house.floorplan import StageFailure
 from objsearch.house.furnish import (
     BED_CORRIDOR,
     DOOR_CLEARANCE,
     MANDATORY,
-    _u_of,
     bed_group,
     dining_group,
     furnish_room,
+    toilet_and_sink,
+    tub_with_towel,
 )
 from objsearch.house.layout import HouseContext, RoomLayout
 from objsearch.house.spec import Door, ObjectInstance, Room, r4
@@ -44,51 +45,9 @@ KITCHEN_TABLE = (9.5, 0.7)  # (minimum area m^2, probability) of a table in a ki
 def bathroom_group(L: RoomLayout, gid: str) -> bool:
     """Bathroom group for small bathrooms: toilet (+ paper) and sink (+ mirror) first, then a bathtub
     (from ``TUB_AREA``) and a towel (above the tub, else on a free wall); False without toilet or sink."""
-    rng = L.rng
-    x0, y0, x1, y1 = L.interior
-    toilet = L.try_wall(category("toilet"), access=0.5, group=gid)
-    if toilet is None:
+    if not toilet_and_sink(L, gid):
         return False
-    if rng.random() < 0.8:
-        side, u = _u_of(L, toilet)
-        tp = L.sample_size(category("toilet_paper"))
-        for sign in (1, -1):
-            uu = u + sign * (toilet.size[0] / 2 + 0.12 + tp[0] / 2)
-            if L.try_on_wall(
-                category("toilet_paper"), tp, tries=1, side=side, u_range=(uu, uu), z=rng.uniform(0.6, 0.72), group=gid
-            ):
-                break
-    sink = L.try_wall(category("sink"), access=0.5, group=gid)
-    if sink is None:
-        return False
-    side, u = _u_of(L, sink)
-    mirror = L.sample_size(category("mirror"), max_width=sink.size[0] + 0.1)
-    L.try_on_wall(
-        category("mirror"),
-        mirror,
-        tries=3,
-        side=side,
-        u_range=(u, u),
-        z=sink.size[2] + rng.uniform(0.25, 0.4),
-        group=gid,
-    )
-    tub = None
-    if (x1 - x0) * (y1 - y0) >= TUB_AREA and rng.random() < 0.8:
-        tub = L.try_wall(category("bathtub"), corner=True, access=0.5, group=gid)
-    towel = L.sample_size(category("towel"))
-    if tub:
-        side, u = _u_of(L, tub)
-        half = (tub.size[0] - towel[0]) / 2 - 0.02
-        L.try_on_wall(
-            category("towel"),
-            towel,
-            side=side,
-            u_range=(u - half, u + half),
-            z=tub.size[2] + rng.uniform(0.4, 0.6),
-            group=gid,
-        )
-    else:
-        L.try_on_wall(category("towel"), towel, z=rng.uniform(0.9, 1.2), group=gid)
+    tub_with_towel(L, gid, min_area=TUB_AREA)
     return True
 
 

@@ -17,14 +17,13 @@ from objsearch.house.doors_v2 import build_walls, place_doors
 from objsearch.house.floorplan import SIZE_CLASSES
 from objsearch.house.floorplan_v2 import plan_house, room_program
 from objsearch.house.furnish_v2 import furnish
+from objsearch.house.generate import SPLITS, WALL_HEIGHT, WALL_THICKNESS, house_id
 from objsearch.house.layout import HouseContext
 from objsearch.house.materials import EXTERIOR, room_materials
 from objsearch.house.spec import HouseSpec, Room
 
 VERSION = "house-gen-2"
 STREAM = 2
-WALL_HEIGHT = 2.7
-WALL_THICKNESS = 0.12
 
 
 def build_spec(seed: int, size_class: str, split: str, attempt: int, furnished: bool = True) -> HouseSpec:
@@ -32,8 +31,6 @@ def build_spec(seed: int, size_class: str, split: str, attempt: int, furnished: 
 
     ``furnished=False`` stops after the walls (a house without objects: the floorplan stages only).
     """
-    from objsearch.house.generate import SPLITS, house_id
-
     rng = np.random.default_rng([seed, attempt, SPLITS[split], STREAM])
     lo, hi = SIZE_CLASSES[size_class]["rooms"]
     types = room_program(int(rng.integers(lo, hi + 1)), rng)
