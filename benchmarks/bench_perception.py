@@ -1,12 +1,17 @@
 """Perception network inference throughput on the CPU: frames per second at several batch sizes.
 
-    python benchmarks/bench_perception.py [--threads 1] [--size 64] [--batches 1,16,64] [--json]
+    python benchmarks/bench_perception.py [--threads 1] [--size 64] [--batches 1,16,64] [--set KEY=VALUE] [--json]
 
-The default ``SegDepthNet`` (``objsearch.perception.model.ModelConfig()``), random
+The default ``SegDepthNet`` (``objsearch.perception.model.ModelConfig()``, or with ``--set``
+fields of it, e.g. ``--set separable=true --set decoder=48``), random
 weights (speed does not depend on them), uint8 RGB in, what ``Predictor.predict`` returns
 out (argmax category ids and depth in metres, as numpy arrays): the cost of filling a
 predicted observation cache, or of predicted observations in live mode. Each figure is
 the median of ``--repeats`` timed runs of at least ``--seconds`` after a warm-up.
+
+``reference`` is the inference path before issue 15 (full-resolution logits from
+``forward``, then the argmax), measured in the same run: the same ids and depth, bit for bit
+(``tests/perception/test_perception_model.py``), so the ratio is the speed-up alone.
 """
 
 from __future__ import annotations
@@ -19,17 +24,30 @@ import time
 import numpy as np
 import torch
 
-from objsearch.perception.inference import Predictor
-from objsearch.perception.model import ModelConfig, SegDepthNet, count_parameters
+from objsearch.cliargs import key_value
+from objsearch.perception.inference import BATCH, Predictor
+from objsearch.perception.model import ModelConfig, SegDepthNet, count_parameters, depth_from_log, rgb_to_tensor
 from objsearch.perception.train import init_weights
 from objsearch.sim.camera import RenderSettings
 
 
-def frames_per_second(predictor: Predictor, rgb: np.ndarray, seconds: float) -> float:
-    predictor.predict(rgb)  # warm-up
+@torch.no_grad()
+def reference_predict(predictor: Predictor, rgb: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """``Predictor.predict`` as it was before issue 15: the argmax of full-resolution logits, in
+    batches of ``BATCH`` frames as there."""
+    out = []
+    for start in range(0, len(rgb), BATCH):
+        logits, log_depth = predictor.model(rgb_to_tensor(rgb[start : start + BATCH]))
+        depth = depth_from_log(log_depth, predictor.settings.znear, predictor.settings.zfar)
+        out.append((logits.argmax(dim=1).to(torch.uint8).numpy(), depth.numpy()))
+    return np.concatenate([o[0] for o in out]), np.concatenate([o[1] for o in out])
+
+
+def frames_per_second(predict, rgb: np.ndarray, seconds: float) -> float:
+    predict(rgb)  # warm-up
     n, t0 = 0, time.perf_counter()
     while time.perf_counter() - t0 < seconds:
-        predictor.predict(rgb)
+        predict(rgb)
         n += len(rgb)
     return n / (time.perf_counter() - t0)
 
@@ -41,23 +59,38 @@ def main() -> None:
     parser.add_argument("--batches", default="1,16,64", help="batch sizes (default: 1,16,64)")
     parser.add_argument("--seconds", type=float, default=3.0, help="minimum time per timed run")
     parser.add_argument("--repeats", type=int, default=3, help="timed runs per batch size; the median is reported")
+    parser.add_argument(
+        "--set",
+        action="append",
+        type=key_value,
+        default=[],
+        metavar="KEY=VALUE",
+        help="a ModelConfig field; repeatable",
+    )
     parser.add_argument("--json", action="store_true", help="print one JSON object")
     args = parser.parse_args()
     torch.set_num_threads(args.threads)
-    model = SegDepthNet(ModelConfig())
+    config = ModelConfig().with_overrides(dict(args.set))
+    model = SegDepthNet(config)
     init_weights(model, torch.Generator().manual_seed(0))
     predictor = Predictor(model, RenderSettings(width=args.size, height=args.size), key="bench", device="cpu")
     rng = np.random.default_rng(0)
-    results = {}
+    paths = {"predict": predictor.predict, "reference": lambda rgb: reference_predict(predictor, rgb)}
+    results = {path: {} for path in paths}
     for batch in (int(b) for b in args.batches.split(",")):
         rgb = rng.integers(0, 256, (batch, args.size, args.size, 3), dtype=np.uint8)
-        results[batch] = statistics.median(frames_per_second(predictor, rgb, args.seconds) for _ in range(args.repeats))
+        for _ in range(args.repeats):  # interleaved, so that a busy stretch of the host hits both paths
+            for path, predict in paths.items():
+                results[path].setdefault(batch, []).append(frames_per_second(predict, rgb, args.seconds))
+    results = {path: {b: statistics.median(v) for b, v in r.items()} for path, r in results.items()}
     info = {
         "threads": args.threads,
         "size": args.size,
         "parameters": count_parameters(model),
+        "model": config.to_json(),
         "torch": torch.__version__,
-        "frames_per_second": {str(b): round(v, 1) for b, v in results.items()},
+        "frames_per_second": {str(b): round(v, 1) for b, v in results["predict"].items()},
+        "reference_frames_per_second": {str(b): round(v, 1) for b, v in results["reference"].items()},
     }
     if args.json:
         print(json.dumps(info))
@@ -65,9 +98,10 @@ def main() -> None:
     print(
         f"SegDepthNet {info['parameters']:,} parameters, {args.size}x{args.size}, {args.threads} thread(s), torch {torch.__version__}"
     )
-    print(f"{'batch':>6} {'frames/s':>10}")
-    for batch, fps in results.items():
-        print(f"{batch:>6} {fps:>10.1f}")
+    print(f"{'batch':>6} {'frames/s':>10} {'reference':>10} {'speed-up':>9}")
+    for batch, fps in results["predict"].items():
+        ref = results["reference"][batch]
+        print(f"{batch:>6} {fps:>10.1f} {ref:>10.1f} {fps / ref:>8.2f}x")
 
 
 if __name__ == "__main__":

@@ -179,9 +179,9 @@ class Predictor:
         semantic = np.empty(rgb.shape[:3], np.uint8)
         depth = np.empty(rgb.shape[:3], np.float32)
         for start in range(0, len(rgb), BATCH):
-            logits, log_depth = self.model(rgb_to_tensor(rgb[start : start + BATCH], self.device))
-            stop = start + len(logits)
-            semantic[start:stop] = logits.argmax(dim=1).to(torch.uint8).cpu().numpy()
+            labels, log_depth = self.model.predict_labels(rgb_to_tensor(rgb[start : start + BATCH], self.device))
+            stop = start + len(labels)
+            semantic[start:stop] = labels.to(torch.uint8).cpu().numpy()
             depth[start:stop] = depth_from_log(log_depth, self.settings.znear, self.settings.zfar).cpu().numpy()
         return semantic, depth
 

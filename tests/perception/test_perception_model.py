@@ -1,3 +1,5 @@
+import dataclasses
+
 import numpy as np
 import pytest
 import torch
@@ -5,7 +7,7 @@ import torch
 from objsearch.errors import UserError
 from objsearch.house.categories import CATEGORY_IDS, CATEGORY_NAMES, FIRST_OBJECT_ID, STRUCTURE
 from objsearch.perception.inference import Predictor, checkpoint_key, load_checkpoint, save_checkpoint
-from objsearch.perception.model import NUM_CLASSES, ModelConfig, SegDepthNet, depth_from_log
+from objsearch.perception.model import NUM_CLASSES, ModelConfig, SegDepthNet, count_parameters, depth_from_log
 from objsearch.perception.train import init_weights
 from objsearch.sim.camera import RenderSettings
 from objsearch.sim.env import NUM_CATEGORY_IDS
@@ -25,9 +27,10 @@ def test_one_segmentation_channel_per_category_id():
         ModelConfig(num_classes=NUM_CLASSES - 1)
 
 
+@pytest.mark.parametrize("separable", [False, True])
 @pytest.mark.parametrize("size", [(32, 32), (64, 64), (48, 80)])
-def test_output_shapes(size):
-    model = SegDepthNet(TINY_MODEL).eval()
+def test_output_shapes(size, separable):
+    model = SegDepthNet(dataclasses.replace(TINY_MODEL, separable=separable)).eval()
     logits, log_depth = model(torch.rand(2, 3, *size))
     assert logits.shape == (2, NUM_CLASSES, *size) and log_depth.shape == (2, *size)
     with pytest.raises(ValueError, match="multiple of 8"):
@@ -48,6 +51,33 @@ def test_predicted_labels_are_category_ids_and_depth_is_in_range(tmp_path):
     assert CATEGORY_NAMES[int(semantic[0, 0, 0])] == "sofa"
     assert depth.dtype == np.float32 and depth.shape == (3, 32, 32) and (depth >= 0.05).all() and (depth <= 30.0).all()
     assert torch.allclose(depth_from_log(torch.tensor([-10.0, 10.0]), 0.05, 30.0), torch.tensor([0.05, 30.0]))
+
+
+def test_separable_convolutions_are_depthwise_and_need_a_boolean():
+    plain, separable = SegDepthNet(TINY_MODEL), SegDepthNet(dataclasses.replace(TINY_MODEL, separable=True))
+    depthwise = [m for m in separable.modules() if isinstance(m, torch.nn.Conv2d) and m.groups > 1]
+    assert depthwise and all(m.groups == m.in_channels == m.out_channels for m in depthwise)
+    assert not any(isinstance(m, torch.nn.Conv2d) and m.groups > 1 for m in plain.modules())
+    assert count_parameters(separable) < count_parameters(plain) / 2
+    assert ModelConfig.from_json(TINY_MODEL.to_json() | {"separable": False}) == TINY_MODEL
+    with pytest.raises(UserError, match="separable must be true or false"):
+        dataclasses.replace(TINY_MODEL, separable=1)
+
+
+def test_predict_labels_is_the_argmax_of_forward_exactly():
+    """The inference path (argmax before the pixel shuffle) gives forward's ids and depth bit
+    for bit, ties included: the predicted caches and the leaderboard's replays rely on it."""
+    model = SegDepthNet(TINY_MODEL).eval()
+    init_weights(model, torch.Generator().manual_seed(1))
+    x = torch.rand(3, 3, 48, 80, generator=torch.Generator().manual_seed(2))
+    with torch.no_grad():
+        logits, log_depth = model(x)
+        labels, log_depth2 = model.predict_labels(x)
+        assert torch.equal(labels, logits.argmax(dim=1)) and torch.equal(log_depth, log_depth2)
+        assert len(labels.unique()) > 5  # not one class everywhere: the layout is exercised
+        model.seg_head.weight.zero_()
+        model.seg_head.bias.zero_()  # every class ties at every pixel: both take the first, id 0
+        assert not model.predict_labels(x)[0].any() and not model(x)[0].argmax(dim=1).any()
 
 
 def test_checkpoint_round_trip_and_key(tmp_path):
