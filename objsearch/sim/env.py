@@ -9,17 +9,60 @@ import gymnasium
 import numpy as np
 from gymnasium import spaces
 
+from objsearch.errors import UserError
 from objsearch.house.categories import CATEGORY_IDS
 from objsearch.sim.cache import HouseCache, PredictedCache, Predictor, quantize_depth
 from objsearch.sim.camera import AGENT_CAMERA, RenderSettings, check_predictor_camera
 from objsearch.sim.goals import DEFAULT_RULE, GOAL_CAMERA, GoalRule, goal_poses
-from objsearch.sim.navgraph import ACTIONS, NUM_MOVE_ACTIONS, STOP
+from objsearch.sim.navgraph import ACTIONS, GRID, NUM_MOVE_ACTIONS, STOP
 from objsearch.sim.world import HouseRef, World
 
 MODES = ("cached", "live")
 OBSERVATIONS = ("gt", "predicted")
 START_STEPS = (6, 40)  # sampled starts: minimal steps to the nearest goal pose in this range
 NUM_CATEGORY_IDS = max(CATEGORY_IDS.values()) + 1
+# Where sampled starts are drawn: among all poses, or near the house's entrance (``draw_start``).
+STARTS = ("anywhere", "entrance")
+ENTRANCE_STEPS = 8  # "entrance" starts: at most this many steps from the entrance pose (``entrance_poses``)
+
+
+def entrance_poses(world: World, steps: int = ENTRANCE_STEPS) -> np.ndarray:
+    """Bool mask over the pose graph: the poses at most ``steps`` navgraph steps from the
+    entrance pose (the 4 headings of the free cell nearest ``spec.entrance_point()``, 1 m
+    inside the entrance door). UserError for a house without an entrance (``house-gen-1``)."""
+    point = world.spec.entrance_point()
+    if point is None:
+        raise UserError(
+            f"house {world.house_id} (generator {world.spec.generator_version}) has no entrance, so starts "
+            "cannot be drawn near it; use house-gen-2 houses (HouseRef(seed=S, generator='house-gen-2')), "
+            "or starts='anywhere'"
+        )
+    graph = world.graph
+    centres = (graph.cells[:, ::-1] + 0.5) * GRID  # (x, y) of every free cell
+    cell = int(np.argmin(((centres - np.asarray(point)) ** 2).sum(axis=1)))
+    dist = graph.shortest_steps([cell * 4 + h for h in range(4)])
+    return (dist >= 0) & (dist <= steps)
+
+
+def draw_start(dist: np.ndarray, rng: np.random.Generator, near: np.ndarray | None = None) -> int | None:
+    """A start pose drawn uniformly with ``rng``, given ``dist``, the minimal steps of every pose
+    to the goal poses.
+
+    ``near=None`` (starts "anywhere"): among the poses ``START_STEPS`` from the goals.
+    ``near`` (a bool mask over poses, e.g. ``entrance_poses``): among the near poses
+    ``START_STEPS`` from the goals; if there is none (the goals are far from the entrance),
+    among the near poses farther than ``START_STEPS[1]`` (``min_steps`` then exceeds the
+    window); if there is none either (goals unreachable from there, or right at the
+    entrance), None: the caller draws another house and target.
+    """
+    window = (dist >= START_STEPS[0]) & (dist <= START_STEPS[1])
+    if near is not None:
+        inside = window & near
+        window = inside if inside.any() else near & (dist > START_STEPS[1])
+    starts = np.flatnonzero(window)
+    if len(starts) == 0:
+        return None
+    return int(starts[rng.integers(len(starts))])
 
 
 @dataclass(frozen=True)
@@ -69,7 +112,9 @@ class HouseEnv(gymnasium.Env):
 
     ## Starting State
     The task passed as ``reset(options={"task": HouseTask})``, or a sampled one: a house,
-    a target category present in it, and a start 6-40 steps from its nearest goal pose.
+    a target category present in it, and a start 6-40 steps from its nearest goal pose
+    (``starts="anywhere"``), or one near the house's entrance (``starts="entrance"``,
+    ``draw_start``; ``house-gen-2`` houses only).
 
     ## Episode End
     Terminated on success: on reaching a goal pose, or with ``stop_action`` on STOP (success
@@ -82,7 +127,9 @@ class HouseEnv(gymnasium.Env):
     each step); both give identical observations. ``settings``: the agent's camera
     (default ``objsearch.sim.camera.AGENT_CAMERA``; goal poses always come from
     ``objsearch.sim.goals.GOAL_CAMERA``). ``cache_dir``.
-    ``goal_rule``. ``targets``: categories sampled episodes may ask for.
+    ``goal_rule``. ``targets``: categories sampled episodes may ask for. ``starts``: where
+    sampled episodes start, ``anywhere`` (default) or ``entrance`` (within ``ENTRANCE_STEPS``
+    steps of the entrance; a house without one is a ``UserError`` on reset).
     ``observation``: ``gt`` (rendered ground truth) or ``predicted``: ``semantic`` and
     ``depth`` come from ``predictor`` (e.g. ``objsearch.perception.inference.Predictor``)
     applied to the RGB (trained on frames of ``settings``, else ``CameraMismatchError``),
@@ -91,7 +138,8 @@ class HouseEnv(gymnasium.Env):
 
     ## Version History
     * v0: initial release (pose graph navgraph-v1, goal rule goals-v1); ``observation=
-      "predicted"`` added later (the default ``gt`` is unchanged).
+      "predicted"`` added later (the default ``gt`` is unchanged); ``starts="entrance"`` added
+      later (the default ``anywhere`` samples the same tasks as before).
     """
 
     metadata = {"render_modes": ["rgb_array"], "render_fps": 4}
@@ -109,11 +157,15 @@ class HouseEnv(gymnasium.Env):
         render_mode: str | None = None,
         observation: str = "gt",
         predictor: Predictor | None = None,
+        starts: str = "anywhere",
     ):
         if mode not in MODES:
             raise ValueError(f"mode must be one of {MODES}, not {mode!r}")
         if observation not in OBSERVATIONS:
             raise ValueError(f"observation must be one of {OBSERVATIONS}, not {observation!r}")
+        if starts not in STARTS:
+            raise ValueError(f"starts must be one of {STARTS}, not {starts!r}")
+        self.starts = starts
         if observation == "predicted" and predictor is None:
             raise ValueError(
                 "observation='predicted' needs a predictor (objsearch.perception.inference.Predictor.from_checkpoint)"
@@ -144,6 +196,7 @@ class HouseEnv(gymnasium.Env):
         self._labels_now = None  # cached mode: the current house's semantic and depth (see _labels)
         self._goals: dict[tuple, np.ndarray] = {}  # (house, target) -> goal pose ids
         self._steps_to: dict[tuple, np.ndarray] = {}  # (house, goal ids) -> steps from every pose
+        self._near: dict[str, np.ndarray] = {}  # house id -> entrance_poses (starts="entrance")
         self._world: World | None = None
         self._done = True
 
@@ -206,7 +259,8 @@ class HouseEnv(gymnasium.Env):
         return self._steps_to[key]
 
     def sample_task(self, rng: np.random.Generator) -> HouseTask:
-        """A house, a target present in it, and a start ``START_STEPS`` from its goals."""
+        """A house, a target present in it, and a start ``START_STEPS`` from its goals, drawn
+        by ``draw_start`` (near the entrance with ``starts="entrance"``)."""
         for _ in range(100):
             world = self._load(int(rng.integers(len(self.refs))))
             present = sorted({o.category for o in world.spec.objects})
@@ -218,10 +272,14 @@ class HouseEnv(gymnasium.Env):
             if len(goals) == 0:
                 continue
             dist = self.steps_to(world, goals)
-            starts = np.flatnonzero((dist >= START_STEPS[0]) & (dist <= START_STEPS[1]))
-            if len(starts) == 0:
+            near = None
+            if self.starts == "entrance":
+                if world.house_id not in self._near:
+                    self._near[world.house_id] = entrance_poses(world)
+                near = self._near[world.house_id]
+            start = draw_start(dist, rng, near)
+            if start is None:
                 continue
-            start = int(starts[rng.integers(len(starts))])
             graph = world.graph
             return HouseTask(
                 house=world.house_id,

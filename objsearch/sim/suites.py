@@ -46,16 +46,19 @@ import numpy as np
 from objsearch.errors import UserError
 from objsearch.fileio import write_json
 from objsearch.house.categories import CATEGORY_IDS, FIRST_OBJECT_ID
-from objsearch.sim.env import START_STEPS, HouseTask
+from objsearch.sim.env import START_STEPS, STARTS, HouseTask, draw_start, entrance_poses
 from objsearch.sim.goals import DEFAULT_RULE, GOAL_CAMERA, goal_poses
 from objsearch.sim.navgraph import NAVGRAPH_VERSION
 from objsearch.sim.world import HouseRef, World
 
 DATA_DIR = Path(__file__).parent / "data"
 # The shipped house suites, in this order for good: a suite's index seeds its builder.
-SUITE_NAMES = ("house-single", "house-multi", "house-gen", "house-gen-v2")
+SUITE_NAMES = ("house-single", "house-multi", "house-gen", "house-gen-v2", "house-single-v2", "house-multi-v2")
 # The generator of each suite's houses (None: house-gen-1).
-SUITE_GENERATORS = {"house-gen-v2": "house-gen-2"}
+SUITE_GENERATORS = {"house-gen-v2": "house-gen-2", "house-single-v2": "house-gen-2", "house-multi-v2": "house-gen-2"}
+# The protocol (the suite of house-gen-1 houses) each suite follows.
+SUITE_PROTOCOLS = {"house-gen-v2": "house-gen", "house-single-v2": "house-single", "house-multi-v2": "house-multi"}
+HOUSE_SINGLE_TARGETS = 12  # house-single's target categories (6 seen, 6 unseen)
 EPISODES_PER_SPLIT = 100
 MAX_STEPS = 1000
 SUITE_SEED = 20211201
@@ -231,18 +234,37 @@ def _goal_table(world: World, targets, cache_dir) -> dict[str, list]:
     return table
 
 
-def _episodes(worlds: dict[str, World], goals: dict, targets: list[str], count: int, rng) -> list[dict]:
-    out = []
+def _episodes(
+    worlds: dict[str, World], goals: dict, targets: list[str], count: int, rng, starts: str = "anywhere"
+) -> list[dict]:
+    """``count`` episodes: house and target drawn uniformly (again while the house lacks the
+    target, or, with ``starts="entrance"``, while ``draw_start`` finds no start near its
+    entrance), the start by ``draw_start``."""
     names = sorted(worlds)
+    near = {house: entrance_poses(world) for house, world in worlds.items()} if starts == "entrance" else {}
+
+    def steps_to_goals(house, target):
+        graph = worlds[house].graph
+        return graph.shortest_steps([graph.pose_id(*g) for g in goals[house][target]])
+
+    if near and not any(
+        (near[h] & (steps_to_goals(h, t) >= START_STEPS[0])).any() for h in names for t in targets if t in goals[h]
+    ):  # draw_start would find no start for any house and target: the loop below would not end
+        raise UserError(
+            f"no target ({', '.join(targets)}) has goal poses {START_STEPS[0]} steps or more from the entrance "
+            f"of any of the houses {', '.join(names)}; draw the starts anywhere (starts='anywhere')"
+        )
+    out = []
     while len(out) < count:
         house = names[rng.integers(len(names))]
         target = targets[rng.integers(len(targets))]
         if target not in goals[house]:
             continue
         graph = worlds[house].graph
-        dist = graph.shortest_steps([graph.pose_id(*g) for g in goals[house][target]])
-        starts = np.flatnonzero((dist >= START_STEPS[0]) & (dist <= START_STEPS[1]))
-        start = int(starts[rng.integers(len(starts))])
+        dist = steps_to_goals(house, target)
+        start = draw_start(dist, rng, near.get(house))
+        if start is None:
+            continue
         out.append(
             {"house": house, "start": list(graph.pose_of(start)), "target": target, "min_steps": int(dist[start])}
         )
@@ -292,28 +314,40 @@ def _suite_record(
 
 def build_suite(name: str, cache_dir: str | None = None) -> dict:
     """Build a suite from its fixed seeds (renders every pose of its evaluation houses)."""
+    if name not in SUITE_NAMES:
+        raise UserError(f"unknown house suite {name!r}; known: {', '.join(SUITE_NAMES)}")
     rng = np.random.default_rng([SUITE_SEED, SUITE_NAMES.index(name)])
-    if name == "house-single":
-        candidates = {s: World.load(HouseRef(seed=s, size_class="medium")) for s in range(10)}
-        # the house with the most target categories
-        seed = max(candidates, key=lambda s: (len({o.category for o in candidates[s].spec.objects} & set(TARGETS)), -s))
-        eval_refs = {"eval": [HouseRef(seed=seed, size_class="medium")]}
+    gen, protocol = SUITE_GENERATORS.get(name), SUITE_PROTOCOLS.get(name, name)
+    if protocol == "house-single":
+        candidates = {s: World.load(HouseRef(seed=s, size_class="medium", generator=gen)) for s in range(10)}
+
+        def present(s):
+            return len({o.category for o in candidates[s].spec.objects} & set(TARGETS))
+
+        # the house with the most target categories, passing over one where fewer than 12 of
+        # them have goal poses in reach of starts (never the case for house-single's house)
+        ranked = sorted(candidates, key=lambda s: (-present(s), s))
+        seed = next(
+            (s for s in ranked if len(_goal_table(candidates[s], TARGETS, cache_dir)) >= HOUSE_SINGLE_TARGETS), None
+        )
+        if seed is None:
+            raise RuntimeError(
+                f"no {name} candidate house has {HOUSE_SINGLE_TARGETS} target categories with goal poses"
+            )
+        eval_refs = {"eval": [HouseRef(seed=seed, size_class="medium", generator=gen)]}
         train_refs: list[HouseRef] = []
-    elif name == "house-multi":
+    elif protocol == "house-multi":
         eval_refs = {
-            "seen-envs": [HouseRef(seed=s, size_class="medium") for s in (100, 101, 102, 103)],
-            "unseen-envs": [HouseRef(seed=s, size_class="medium") for s in (200, 201, 202, 203)],
+            "seen-envs": [HouseRef(seed=s, size_class="medium", generator=gen) for s in (100, 101, 102, 103)],
+            "unseen-envs": [HouseRef(seed=s, size_class="medium", generator=gen) for s in (200, 201, 202, 203)],
         }
         train_refs = []
-    elif name in ("house-gen", "house-gen-v2"):
-        gen = SUITE_GENERATORS.get(name)
+    else:
         train_refs = [HouseRef(seed=s, generator=gen) for s in range(1000, 1040)]
         eval_refs = {
             "val": [HouseRef(seed=s, split="test", generator=gen) for s in range(2000, 2010)],
             "test": [HouseRef(seed=s, split="test", generator=gen) for s in range(3000, 3010)],
         }
-    else:
-        raise UserError(f"unknown house suite {name!r}; known: {', '.join(SUITE_NAMES)}")
 
     worlds = {key: [World.load(r) for r in refs] for key, refs in eval_refs.items()}
     houses, goals = {}, {}
@@ -331,19 +365,19 @@ def build_suite(name: str, cache_dir: str | None = None) -> dict:
         return sorted(set.intersection(*sets))
 
     splits, categories = {}, {}
-    if name == "house-single":
+    if protocol == "house-single":
         (world,) = worlds["eval"]
         usable = common([world])
-        picked = [usable[i] for i in sorted(rng.choice(len(usable), size=12, replace=False))]
-        order = rng.permutation(12)
+        picked = [usable[i] for i in sorted(rng.choice(len(usable), size=HOUSE_SINGLE_TARGETS, replace=False))]
+        order = rng.permutation(HOUSE_SINGLE_TARGETS)
         categories = {"seen": sorted(picked[i] for i in order[:6]), "unseen": sorted(picked[i] for i in order[6:])}
         by_id = {world.house_id: world}
         splits["seen-goals"] = _episodes(by_id, goals, categories["seen"], EPISODES_PER_SPLIT, rng)
         splits["unseen-goals"] = _episodes(by_id, goals, categories["unseen"], EPISODES_PER_SPLIT, rng)
-    elif name == "house-multi":
+    elif protocol == "house-multi":
         usable = common(worlds["seen-envs"] + worlds["unseen-envs"])
         if len(usable) < 6:
-            raise RuntimeError(f"only {len(usable)} targets common to all house-multi houses: {usable}")
+            raise RuntimeError(f"only {len(usable)} targets common to all {name} houses: {usable}")
         categories = {"targets": [usable[i] for i in sorted(rng.choice(len(usable), size=6, replace=False))]}
         for split in ("seen-envs", "unseen-envs"):
             by_id = {w.house_id: w for w in worlds[split]}
@@ -372,6 +406,7 @@ def suite_from_houses(
     episodes: int = EPISODES_PER_SPLIT,
     seed: int = 0,
     cache_dir: str | None = None,
+    starts: str = "anywhere",
 ) -> dict:
     """The suite file to write at ``out`` for the houses under ``houses_dir`` (the folders
     ``objsearch generate --out`` writes), made as ``build_suite`` makes the shipped ones: goal
@@ -380,7 +415,13 @@ def suite_from_houses(
     else the ``TARGETS`` with goal poses in at least half of the houses (as ``house-gen``
     picks them). Houses are recorded by their folder relative to ``out``'s folder, so the
     file and the houses move together; every house is checked (``load_house``) before any
-    is rendered. The same houses, arguments and paths give the same file."""
+    is rendered. The same houses, arguments and paths give the same file.
+
+    ``starts``: ``anywhere`` (default), or ``entrance``: every start is drawn near the house's
+    entrance (``objsearch.sim.env.draw_start``; the file then records ``"starts": "entrance"``);
+    a house without an entrance (``house-gen-1``) is a ``UserError`` before anything is rendered."""
+    if starts not in STARTS:
+        raise UserError(f"unknown starts {starts!r}; use one of {', '.join(STARTS)}")
     root, base = Path(houses_dir), Path(out).resolve().parent
     wanted = _check_targets(targets) if targets else list(TARGETS)
     worlds, houses, folders = {}, {}, {}
@@ -394,6 +435,8 @@ def suite_from_houses(
         worlds[world.house_id], folders[world.house_id] = world, folder
         stored = Path(os.path.relpath(folder.resolve(), base)).as_posix()
         houses[world.house_id] = house_entry(world, HouseRef(path=stored))
+        if starts == "entrance":
+            entrance_poses(world)  # a house without an entrance: UserError now, not after rendering
     tables = {house: _goal_table(world, wanted, cache_dir) for house, world in worlds.items()}
     if targets:
         for target in wanted:
@@ -410,10 +453,13 @@ def suite_from_houses(
                 "name the targets with --targets"
             )
     goals = {house: {t: poses for t, poses in table.items() if t in wanted} for house, table in tables.items()}
-    splits = {Path(out).stem: _episodes(worlds, goals, wanted, episodes, np.random.default_rng(seed))}
+    splits = {Path(out).stem: _episodes(worlds, goals, wanted, episodes, np.random.default_rng(seed), starts)}
     spec_hashes = {house: entry["spec_sha256"] for house, entry in houses.items()}
     digest = hashlib.sha256(json.dumps([spec_hashes, goals, splits], sort_keys=True).encode()).hexdigest()[:12]
-    return _suite_record(Path(out).stem, f"custom:{digest}", {"targets": wanted}, houses, {}, goals, splits)
+    suite = _suite_record(Path(out).stem, f"custom:{digest}", {"targets": wanted}, houses, {}, goals, splits)
+    if starts != "anywhere":  # recorded only when not the default, so other files keep their bytes
+        suite["starts"] = starts
+    return suite
 
 
 def house_folders(root: Path) -> list[Path]:

@@ -219,3 +219,37 @@ def test_bad_houses_and_arguments_stop_suite_make_naming_them(made, tmp_path):
     assert_clean_error(
         run("objsearch-eval", "--suite", "none.json", cwd=tmp_path), "suite file none.json does not exist"
     )
+
+
+def test_suite_make_draws_starts_near_the_entrance(made, cache_dir, tmp_path):
+    """``--starts entrance``: house-gen-2 houses get starts near their entrance (recorded in
+    the file, evaluated as any suite file); house-gen-1 houses (no entrance) are a clean error."""
+    from objsearch.sim.env import entrance_poses
+    from objsearch.sim.suites import load_houses, load_suite_file
+
+    assert_clean_error(
+        run(
+            "objsearch", "suite", "make", "--houses", str(made / "houses"), "--out", "s.json",
+            "--starts", "entrance", cwd=tmp_path,
+        ),
+        "house train_000003",
+        "no entrance",
+        "house-gen-2",
+    )  # fmt: skip
+    assert not (tmp_path / "s.json").exists()
+    gen = ["objsearch", "generate", "--generator", "house-gen-2", "--seed", "3", "--num", "2", "--rooms", "small"]
+    assert run(*gen, "--no-preview", "--quiet", "--out", "houses", cwd=tmp_path).returncode == 0
+    args = ["--houses", "houses", "--episodes", "12", "--seed", "1", "--cache-dir", cache_dir]
+    out = run("objsearch", "suite", "make", *args, "--starts", "entrance", "--out", "near.json", cwd=tmp_path)
+    assert out.returncode == 0, out.stderr
+    raw = json.loads((tmp_path / "near.json").read_text())
+    assert raw["starts"] == "entrance"
+    worlds = load_houses(load_suite_file(str(tmp_path / "near.json")))
+    for item in raw["splits"]["near"]:
+        world = worlds[item["house"]]
+        assert entrance_poses(world)[world.graph.pose_id(*item["start"])]
+    out = run(
+        "objsearch-eval", "--agent", "oracle", "--suite", "near.json", "--seeds", "1", "--quiet",
+        "--cache-dir", cache_dir, "--out", "r.json", cwd=tmp_path,
+    )  # fmt: skip
+    assert out.returncode == 0, out.stderr

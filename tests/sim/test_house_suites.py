@@ -15,7 +15,7 @@ from objsearch.sim.goals import GOAL_CAMERA, goal_poses
 from objsearch.sim.suites import load_suite_file
 
 
-@pytest.mark.parametrize("name", ["house-single", "house-multi"])
+@pytest.mark.parametrize("name", ["house-single", "house-multi", "house-single-v2", "house-multi-v2"])
 def test_suite_files_are_consistent(name):
     data = load_suite_file(name)
     suite = make_suite(name, mode="live")
@@ -28,7 +28,9 @@ def test_suite_files_are_consistent(name):
             dist = graph.shortest_steps([graph.pose_id(*g) for g in ep.task.goals])
             assert dist[graph.pose_id(*ep.task.start)] == ep.min_steps
             assert START_STEPS[0] <= ep.min_steps <= START_STEPS[1]
-    if name == "house-single":
+    generator = "house-gen-2" if name.endswith("-v2") else "house-gen-1"
+    assert all(w.spec.generator_version == generator for w in suite.worlds.values())
+    if name.startswith("house-single"):
         assert len(data["houses"]) == 1
         assert len(data["categories"]["seen"]) == len(data["categories"]["unseen"]) == 6
         assert not set(data["categories"]["seen"]) & set(data["categories"]["unseen"])
@@ -39,7 +41,7 @@ def test_suite_files_are_consistent(name):
         assert len(seen) == len(unseen) == 4 and not seen & unseen
 
 
-@pytest.mark.parametrize("name", ["house-single", "house-multi", "house-gen-v2"])
+@pytest.mark.parametrize("name", ["house-single", "house-multi", "house-gen-v2", "house-single-v2", "house-multi-v2"])
 def test_oracle_is_perfect_on_every_split(name):
     results = evaluate(
         EvalConfig(agent="oracle", suite=name, seeds=(1,), suite_config={"mode": "live"}), progress=False

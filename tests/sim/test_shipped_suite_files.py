@@ -13,6 +13,8 @@ SHIPPED = {
     "house-multi": ("house-multi-v1", "3f68c77d2efbd5b28ab0f1cd9e36b187a09a1be34842bfdab716e2b9e959a306"),
     "house-gen": ("house-gen-v1", "6e206f26a198e48096b684235e5cb1054fe1068e8950c7ca4d1e331bc7122a09"),
     "house-gen-v2": ("house-gen-v2-v1", "c62052da5878932444d6cc157f886bbc19333a77f595b7b3217f4c0bfd6d0cc0"),
+    "house-single-v2": ("house-single-v2-v1", "513ac949cae07a96199bb516cd305ee9246cb0239f8cf4187a1848e5761cfa54"),
+    "house-multi-v2": ("house-multi-v2-v1", "f683105358252d0a702ebcab822633c55583bdd69361bd38b53f75102150655f"),
 }
 
 

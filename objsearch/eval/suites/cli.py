@@ -3,6 +3,7 @@ shipped house suite's file.
 
   objsearch suite list
   objsearch suite make --houses DIR --out my-suite.json [--targets a,b] [--episodes N] [--seed S]
+                       [--starts anywhere|entrance]
   objsearch suite rebuild NAME [NAME ...]
 
 ``make`` takes the folders that ``objsearch generate --out DIR`` writes and makes a suite
@@ -24,6 +25,7 @@ from objsearch.errors import UserError
 
 def add_parser(subparsers) -> None:
     """Add ``objsearch suite`` (list, make, rebuild) to ``subparsers``."""
+    from objsearch.sim.env import STARTS
     from objsearch.sim.suites import EPISODES_PER_SPLIT, SUITE_NAMES
 
     parser = subparsers.add_parser(
@@ -56,6 +58,13 @@ def add_parser(subparsers) -> None:
     )
     make.add_argument("--seed", type=non_negative_int, default=0, help="seed of the episodes drawn (default: 0)")
     make.add_argument(
+        "--starts",
+        choices=STARTS,
+        default="anywhere",
+        help="where episodes start: anywhere 6-40 steps from the goal (default), or near the house's "
+        "entrance (house-gen-2 houses)",
+    )
+    make.add_argument(
         "--cache-dir",
         help="observation cache the houses are rendered into (default: $OBJSEARCH_CACHE "
         "or ~/.cache/objsearch; objsearch-eval reuses it)",
@@ -82,9 +91,11 @@ def run_list(args: argparse.Namespace) -> int:
     """``objsearch suite list``: print every suite's name, world and options; returns 0."""
     from objsearch.eval.suites import SUITES, suite_class
 
-    for name in [*SUITES, "FILE.json"]:  # FILE.json: any suite file made by objsearch suite make
+    names = [*SUITES, "FILE.json"]  # FILE.json: any suite file made by objsearch suite make
+    width = max(map(len, names))
+    for name in names:
         cls = suite_class(name)
-        print(f"{name:<14} {cls.world:<10} options: {', '.join(cls.options)}")
+        print(f"{name:<{width}} {cls.world:<10} options: {', '.join(cls.options)}")
     return 0
 
 
@@ -96,7 +107,9 @@ def run_make(args: argparse.Namespace) -> int:
         raise UserError(
             f"--out {args.out}: a suite file's name ends in .json (objsearch-eval --suite tells it by that)"
         )
-    suite = suite_from_houses(args.houses, args.out, args.targets, args.episodes, args.seed, args.cache_dir)
+    suite = suite_from_houses(
+        args.houses, args.out, args.targets, args.episodes, args.seed, args.cache_dir, args.starts
+    )
     write_suite_file(args.out, suite)
     ((split, episodes),) = suite["splits"].items()
     print(
