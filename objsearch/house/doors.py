@@ -113,8 +113,19 @@ def _cut(lo: float, hi: float, holes: list[tuple[float, float]]) -> list[tuple[f
     return [(a, b) for a, b in pieces if b - a > 1e-6]
 
 
+# (axis the edge runs along, fixed coordinate, lo, hi, side): side +1 when the room lies on
+# the + side of the edge (above an ``x`` edge, east of a ``y`` edge), -1 otherwise
+Edge = tuple[str, float, float, float, int]
+
+
+def rect_edges(rect: Rect) -> list[Edge]:
+    """The 4 edges of a rectangle room, in ``house-gen-1``'s wall order: bottom, top, left, right."""
+    x0, y0, x1, y1 = rect
+    return [("x", y0, x0, x1, 1), ("x", y1, x0, x1, -1), ("y", x0, y0, y1, 1), ("y", x1, y0, y1, -1)]
+
+
 def build_walls(
-    rects: list[Rect],
+    room_edges: list[list[Edge]],
     doors: list[Door],
     footprint: tuple[float, float],
     thickness: float,
@@ -122,7 +133,9 @@ def build_walls(
     wall_materials: list[str],
     exterior_material: str,
 ) -> list[Wall]:
-    """The walls of every room (inner half-walls, outer ones on the footprint edge), cut at the doors."""
+    """The walls of every room (inner half-walls, outer ones on the footprint edge), cut at the
+    doors, from each room's edges (``rect_edges``, or ``doors_v2.edges`` of a polygon) in the
+    order given: the order numbers the walls."""
     t = thickness / 2
     width, depth = footprint
     walls: list[Wall] = []
@@ -130,33 +143,23 @@ def build_walls(
     def add(room, box, material):
         walls.append(Wall(len(walls), room, tuple(r4(v) for v in box), height, material))
 
-    for rid, (x0, y0, x1, y1) in enumerate(rects):
-        sides = [  # (direction, fixed coordinate, lo, hi, inner box maker, outer box maker)
-            ("x", y0, x0, x1, lambda a, b: (a, y0, b, y0 + t), lambda a, b: (a, y0 - t, b, y0)),
-            ("x", y1, x0, x1, lambda a, b: (a, y1 - t, b, y1), lambda a, b: (a, y1, b, y1 + t)),
-            ("y", x0, y0, y1, lambda a, b: (x0, a, x0 + t, b), lambda a, b: (x0 - t, a, x0, b)),
-            ("y", x1, y0, y1, lambda a, b: (x1 - t, a, x1, b), lambda a, b: (x1, a, x1 + t, b)),
-        ]
-        for direction, fixed, lo, hi, inner, outer in sides:
+    for rid, edges in enumerate(room_edges):
+        for axis, fixed, lo, hi, side in edges:
             holes = []
             for d in doors:
-                if (
-                    rid in d.rooms
-                    and d.axis == direction
-                    and abs((d.center[1] if direction == "x" else d.center[0]) - fixed) < 1e-6
-                ):
-                    c = d.center[0] if direction == "x" else d.center[1]
-                    holes.append((c - d.width / 2, c + d.width / 2))
-            exterior = (direction == "x" and fixed in (0.0, depth)) or (direction == "y" and fixed in (0.0, width))
+                if rid not in d.rooms or d.axis != axis:
+                    continue
+                c_fixed, c_along = (d.center[1], d.center[0]) if axis == "x" else (d.center[0], d.center[1])
+                if abs(c_fixed - fixed) < 1e-6 and lo < c_along < hi:
+                    holes.append((c_along - d.width / 2, c_along + d.width / 2))
+            end = width if axis == "x" else depth
+            exterior = abs(fixed) < 1e-6 or abs(fixed - (depth if axis == "x" else width)) < 1e-6
             for a, b in _cut(lo, hi, holes):
-                add(rid, inner(a, b), wall_materials[rid])
+                f0, f1 = sorted((fixed, fixed + side * t))
+                add(rid, (a, f0, b, f1) if axis == "x" else (f0, a, f1, b), wall_materials[rid])
                 if exterior:
-                    add(
-                        -1,
-                        outer(
-                            a - t if a <= 1e-6 else a,
-                            b + t if b >= (width if direction == "x" else depth) - 1e-6 else b,
-                        ),
-                        exterior_material,
-                    )
+                    g0, g1 = sorted((fixed, fixed - side * t))
+                    a2 = a - t if a <= 1e-6 else a
+                    b2 = b + t if b >= end - 1e-6 else b
+                    add(-1, (a2, g0, b2, g1) if axis == "x" else (g0, a2, g1, b2), exterior_material)
     return walls

@@ -1,4 +1,4 @@
-"""Stage 3 of ``house-gen-2``: doors by circulation rules, the entrance, and walls of any rectilinear room.
+"""Stage 3 of ``house-gen-2``: doors by circulation rules, the entrance, and the edges of any rectilinear room.
 
 Door rules (the rules ``objsearch.house.validate_v2`` checks):
 
@@ -15,7 +15,8 @@ Door rules (the rules ``objsearch.house.validate_v2`` checks):
 * the entrance is a door in an outer wall of a core room (the hallway first), its ``rooms``
   being ``(room, OUTSIDE)``.
 
-Walls: each edge of each room polygon is a box of half the wall thickness on the room's side
+Walls (``objsearch.house.doors.build_walls`` over ``edges``, the one wall builder of both
+generators): each edge of each room polygon is a box of half the wall thickness on the room's side
 of the edge, with its door openings cut out; edges on the footprint boundary get a second
 half outside (the outer skin, room -1), cut at the entrance too, so the entrance is a real
 opening through the outer wall.
@@ -25,10 +26,10 @@ from __future__ import annotations
 
 import numpy as np
 
-from objsearch.house.doors import _cut
+from objsearch.house.doors import Edge
 from objsearch.house.floorplan import StageFailure
 from objsearch.house.floorplan_v2 import CORE, PRIVATE, Plan
-from objsearch.house.spec import OUTSIDE, Door, Room, Wall, r4
+from objsearch.house.spec import OUTSIDE, Door, Room, r4
 
 DOOR_WIDTH = (0.9, 1.0)
 ENTRANCE_WIDTH = (0.95, 1.05)
@@ -46,12 +47,9 @@ CORE_PREFERENCE = {"hallway": 3.0, "living_room": 2.0, "dining_room": 1.5, "kitc
 Segment = tuple[str, float, float, float]  # (door axis, fixed coordinate, lo, hi)
 
 
-def edges(polygon) -> list[tuple[str, float, float, float, int]]:
-    """Edges of a ccw rectilinear polygon: (axis the edge runs along, fixed coordinate, lo, hi, side).
-
-    ``side`` is +1 when the room lies on the + side of the edge (above an ``x`` edge, east of a
-    ``y`` edge), -1 otherwise.
-    """
+def edges(polygon) -> list[Edge]:
+    """Edges of a ccw rectilinear polygon (``doors.Edge``: axis the edge runs along, fixed
+    coordinate, lo, hi, side), in the polygon's order."""
     out = []
     for k in range(len(polygon)):
         (xa, ya), (xb, yb) = polygon[k], polygon[(k + 1) % len(polygon)]
@@ -196,47 +194,6 @@ def _entrance(plan: Plan, k: int, rng: np.random.Generator, thickness: float) ->
     door = _door(k, (i, OUTSIDE), seg, width, ENTRANCE_MARGIN, thickness, rng)
     assert door is not None
     return door
-
-
-def build_walls(
-    polygons,
-    doors: list[Door],
-    footprint: tuple[float, float],
-    thickness: float,
-    height: float,
-    wall_materials: list[str],
-    exterior_material: str,
-) -> list[Wall]:
-    """The walls of every room polygon (inner half-walls, outer ones on the footprint edge), cut at the doors."""
-    t = thickness / 2
-    width, depth = footprint
-    walls: list[Wall] = []
-
-    def add(room, box, material):
-        walls.append(Wall(len(walls), room, tuple(r4(v) for v in box), height, material))
-
-    for rid, poly in enumerate(polygons):
-        for axis, fixed, lo, hi, side in edges(poly):
-            holes = []
-            for d in doors:
-                if rid not in d.rooms or d.axis != axis:
-                    continue
-                c_fixed, c_along = (d.center[1], d.center[0]) if axis == "x" else (d.center[0], d.center[1])
-                if abs(c_fixed - fixed) < 1e-6 and lo < c_along < hi:
-                    holes.append((c_along - d.width / 2, c_along + d.width / 2))
-            end = width if axis == "x" else depth
-            exterior = abs(fixed) < 1e-6 or abs(fixed - (depth if axis == "x" else width)) < 1e-6
-            for a, b in _cut(lo, hi, holes):
-                inner = (fixed, fixed + side * t)
-                f0, f1 = min(inner), max(inner)
-                add(rid, (a, f0, b, f1) if axis == "x" else (f0, a, f1, b), wall_materials[rid])
-                if exterior:
-                    outer = (fixed, fixed - side * t)
-                    g0, g1 = min(outer), max(outer)
-                    a2 = a - t if a <= 1e-6 else a
-                    b2 = b + t if b >= end - 1e-6 else b
-                    add(-1, (a2, g0, b2, g1) if axis == "x" else (g0, a2, g1, b2), exterior_material)
-    return walls
 
 
 def inward(room_polygon, door: Door, depth: float = 0.05) -> tuple[float, float]:

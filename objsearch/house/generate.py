@@ -33,7 +33,7 @@ from objsearch.errors import UserError
 from objsearch.fileio import atomic_write
 from objsearch.house import assets
 from objsearch.house.categories import CATEGORY_TABLE_VERSION
-from objsearch.house.doors import build_walls, place_doors
+from objsearch.house.doors import build_walls, place_doors, rect_edges
 from objsearch.house.floorplan import SIZE_CLASSES, StageFailure, assign_types, footprint, room_program, split_rooms
 from objsearch.house.furnish import furnish
 from objsearch.house.layout import HouseContext
@@ -97,7 +97,13 @@ def build_spec(seed: int, size_class: str, split: str, attempt: int) -> HouseSpe
         rooms.append(Room(i, t, ((x0, y0), (x1, y0), (x1, y1), (x0, y1)), floor.name, wall.name))
     materials.append(EXTERIOR)
     walls = build_walls(
-        rects, doors, (width, depth), WALL_THICKNESS, WALL_HEIGHT, [r.wall_material for r in rooms], EXTERIOR.name
+        [rect_edges(r) for r in rects],
+        doors,
+        (width, depth),
+        WALL_THICKNESS,
+        WALL_HEIGHT,
+        [r.wall_material for r in rooms],
+        EXTERIOR.name,
     )
     h = WALL_THICKNESS / 2
     interiors = [(r4(x0 + h), r4(y0 + h), r4(x1 - h), r4(y1 - h)) for x0, y0, x1, y1 in rects]

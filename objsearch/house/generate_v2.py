@@ -13,7 +13,8 @@ from __future__ import annotations
 import numpy as np
 
 from objsearch.house.categories import CATEGORY_TABLE_VERSION
-from objsearch.house.doors_v2 import build_walls, place_doors
+from objsearch.house.doors import build_walls
+from objsearch.house.doors_v2 import edges, place_doors
 from objsearch.house.floorplan import SIZE_CLASSES
 from objsearch.house.floorplan_v2 import plan_house, room_program
 from objsearch.house.furnish_v2 import furnish
@@ -44,7 +45,13 @@ def build_spec(seed: int, size_class: str, split: str, attempt: int, furnished: 
     materials.append(EXTERIOR)
     footprint = (plan.width, plan.depth)
     walls = build_walls(
-        plan.polygons, doors, footprint, WALL_THICKNESS, WALL_HEIGHT, [r.wall_material for r in rooms], EXTERIOR.name
+        [edges(p) for p in plan.polygons],
+        doors,
+        footprint,
+        WALL_THICKNESS,
+        WALL_HEIGHT,
+        [r.wall_material for r in rooms],
+        EXTERIOR.name,
     )
     objects = furnish(HouseContext(rng, split), rooms, doors, WALL_HEIGHT, WALL_THICKNESS) if furnished else []
     return HouseSpec(
