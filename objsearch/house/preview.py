@@ -8,95 +8,40 @@ legend numbers the object categories present (in category-table order); under it
 bar, the symbols and a north arrow (+y is north). Drawn with OpenCV and Hershey fonts at
 ``PX`` pixels a metre: the same spec gives the same bytes.
 
+The canvas (pixels a metre, colours, text, ``PlanLayout``) is ``objsearch.house.plan_canvas``;
+legends, symbols, the scale bar and the north arrow are ``objsearch.house.plan_legend``.
 ``objsearch.sim.video`` draws episode maps on the same plan with ``plan_layout``,
 ``draw_plan`` and ``draw_legend``.
 """
 
 from __future__ import annotations
 
-from dataclasses import dataclass
 from pathlib import Path
-from typing import Callable, Sequence
 
 import cv2
 import numpy as np
 
 from objsearch.fileio import atomic_write
+from objsearch.house.plan_canvas import (
+    DOOR,
+    ENTRANCE,
+    FRONT,
+    GAP,
+    HIGHLIGHT,
+    INK,
+    MARGIN,
+    PX,
+    ROOM_COLORS,
+    ROW_H,
+    TITLE_H,
+    WALL,
+    PlanLayout,
+    plan_layout,
+    put_text,
+    text_width,
+)
+from objsearch.house.plan_legend import draw_footer, footer_height, footer_top, plan_footer
 from objsearch.house.spec import Door, HouseSpec, Room
-
-PX = 60  # pixels a metre
-MARGIN = 40  # white border round the plan: room for the entrance's arrow and label
-TITLE_H = 30
-ROW_H = 18  # one legend row
-SYMBOL_W = 26  # a legend symbol's box
-FONT = cv2.FONT_HERSHEY_SIMPLEX
-INK = (20, 20, 20)
-WALL = (60, 60, 60)
-GAP = (250, 250, 250)
-DOOR = (40, 120, 200)  # BGR orange
-ENTRANCE = (40, 150, 40)  # BGR green
-FRONT = (0, 0, 200)
-ROOM_COLORS = {  # BGR
-    "living_room": (170, 210, 240),
-    "kitchen": (170, 235, 200),
-    "dining_room": (150, 200, 235),
-    "bedroom": (235, 200, 190),
-    "bathroom": (235, 225, 160),
-    "office": (210, 180, 220),
-    "hallway": (205, 205, 205),
-}
-
-#: A legend entry: its label and a function drawing its symbol in the box at (x, y).
-LegendEntry = tuple[str, Callable[[np.ndarray, int, int], None]]
-
-
-@dataclass(frozen=True)
-class PlanLayout:
-    """Where a house's plan lies on a canvas of ``width`` x ``height`` pixels.
-
-    ``left``, ``top``: pixel of the plan's north-west corner (x = 0, y = depth);
-    ``plan_w``, ``plan_h``: the footprint in pixels (``PX`` a metre).
-    """
-
-    width: int
-    height: int
-    left: int
-    top: int
-    plan_w: int
-    plan_h: int
-
-    def pixel(self, x: float, y: float) -> tuple[int, int]:
-        """Pixel (column, row) of world point (x, y) metres (y points up the picture)."""
-        return int(round(self.left + x * PX)), int(round(self.top + self.plan_h - y * PX))
-
-    def canvas(self) -> np.ndarray:
-        """A white BGR canvas of the layout's size."""
-        return np.full((self.height, self.width, 3), 255, np.uint8)
-
-
-def plan_layout(spec: HouseSpec, top: int = 0, bottom: int = 0, right: int = 0, min_width: int = 0) -> PlanLayout:
-    """The layout of ``spec``'s plan with ``MARGIN`` round it, ``top`` / ``bottom`` pixels
-    above / below for a title and a footer and ``right`` beside it for a legend."""
-    width, depth = spec.footprint
-    plan_w, plan_h = int(round(width * PX)), int(round(depth * PX))
-    return PlanLayout(
-        width=max(plan_w + 2 * MARGIN + right, min_width),
-        height=top + plan_h + 2 * MARGIN + bottom,
-        left=MARGIN,
-        top=top + MARGIN,
-        plan_w=plan_w,
-        plan_h=plan_h,
-    )
-
-
-def put_text(img: np.ndarray, text: str, org: tuple[int, int], scale: float = 0.45, color=INK, thickness=1) -> None:
-    """Draw ``text`` with its baseline's left end at ``org`` (Hershey simplex, anti-aliased)."""
-    cv2.putText(img, text, org, FONT, scale, color, thickness, cv2.LINE_AA)
-
-
-def text_width(text: str, scale: float = 0.45, thickness: int = 1) -> int:
-    """Width in pixels of ``text`` drawn by ``put_text``."""
-    return cv2.getTextSize(text, FONT, scale, thickness)[0][0]
 
 
 def category_numbers(spec: HouseSpec) -> dict[str, int]:
@@ -110,16 +55,6 @@ def category_numbers(spec: HouseSpec) -> dict[str, int]:
 def room_label(room: Room) -> tuple[str, str]:
     """The two lines written in a room: its type and its area (``m2`` is drawn as m²)."""
     return room.type.replace("_", " "), f"{room.area:.1f} m2"
-
-
-def entrances(spec: HouseSpec) -> list[Door]:
-    """The doors that lead outside (one of their ``rooms`` is a negative id)."""
-    return [d for d in spec.doors if min(d.rooms) < 0]
-
-
-def scale_bar_metres(spec: HouseSpec) -> int:
-    """Length of the scale bar: 2 m, or 1 m for a footprint under 6 m wide."""
-    return 1 if spec.footprint[0] < 6 else 2
 
 
 def _rect(img, layout: PlanLayout, box, color, thickness=-1) -> None:
@@ -272,9 +207,6 @@ def _draw_objects(img, spec: HouseSpec, layout: PlanLayout, highlight: str | Non
             _rect(img, layout, (x0 - 0.05, y0 - 0.05, x1 + 0.05, y1 + 0.05), HIGHLIGHT, 3)
 
 
-HIGHLIGHT = (200, 0, 200)  # BGR magenta
-
-
 def _marker_size(number: int) -> tuple[int, int]:
     return text_width(str(number), 0.33) + 5, 13
 
@@ -346,90 +278,6 @@ def draw_plan(
         _draw_markers(img, spec, layout, numbers, boxes)
 
 
-def legend_size(entries: Sequence[LegendEntry], max_width: int) -> tuple[int, int]:
-    """(width, height) that ``draw_legend`` fills with ``entries`` wrapped at ``max_width``."""
-    return _legend(None, entries, 0, 0, max_width)
-
-
-def draw_legend(img: np.ndarray, entries: Sequence[LegendEntry], x: int, y: int, max_width: int) -> tuple[int, int]:
-    """Draw ``entries`` (symbol, then label) left to right from (x, y), wrapping at
-    ``max_width`` pixels; returns the (width, height) used."""
-    return _legend(img, entries, x, y, max_width)
-
-
-def _legend(img, entries, x, y, max_width) -> tuple[int, int]:
-    """Entries in a grid of equal columns, as many as ``max_width`` holds (at least one)."""
-    if not entries:
-        return 0, 0
-    col_w = max(SYMBOL_W + 4 + text_width(label, 0.4) + 14 for label, _ in entries)
-    cols = min(max(max_width // col_w, 1), len(entries))
-    if img is not None:
-        for i, (label, symbol) in enumerate(entries):
-            cx, cy = x + (i % cols) * col_w, y + (i // cols) * ROW_H
-            symbol(img, cx, cy)
-            put_text(img, label, (cx + SYMBOL_W + 4, cy + 13), 0.4)
-    return cols * col_w, (len(entries) + cols - 1) // cols * ROW_H
-
-
-def door_symbol(img: np.ndarray, x: int, y: int) -> None:
-    """Legend symbol of a door: the orange bar in a gap of a wall."""
-    cv2.rectangle(img, (x, y + 6), (x + SYMBOL_W - 1, y + 12), WALL, -1)
-    cv2.rectangle(img, (x + 6, y + 5), (x + SYMBOL_W - 7, y + 13), GAP, -1)
-    cv2.line(img, (x + 6, y + 9), (x + SYMBOL_W - 7, y + 9), DOOR, 4, cv2.LINE_AA)
-
-
-def entrance_symbol(img: np.ndarray, x: int, y: int) -> None:
-    """Legend symbol of the entrance: a green arrow into the house."""
-    cv2.arrowedLine(img, (x + 2, y + 9), (x + SYMBOL_W - 2, y + 9), ENTRANCE, 3, cv2.LINE_AA, tipLength=0.45)
-
-
-def front_symbol(img: np.ndarray, x: int, y: int) -> None:
-    """Legend symbol of an object with the red tick on its front side."""
-    cv2.rectangle(img, (x + 4, y + 3), (x + SYMBOL_W - 5, y + 15), (190, 190, 190), -1)
-    cv2.rectangle(img, (x + 4, y + 3), (x + SYMBOL_W - 5, y + 15), (0, 0, 0), 1)
-    cv2.line(img, (x + SYMBOL_W // 2, y + 9), (x + SYMBOL_W // 2, y + 15), FRONT, 2, cv2.LINE_AA)
-
-
-def draw_scale_bar(img: np.ndarray, x: int, y: int, metres: int) -> int:
-    """A bar of ``metres`` (``PX`` pixels a metre: it covers columns x .. x + PX * metres - 1,
-    rows y .. y + 5) in black and white metres, labelled; returns the column after the label."""
-    for m in range(metres):
-        color = INK if m % 2 == 0 else (255, 255, 255)
-        cv2.rectangle(img, (x + m * PX, y), (x + (m + 1) * PX - 1, y + 5), color, -1)
-    cv2.rectangle(img, (x, y), (x + metres * PX - 1, y + 5), INK, 1)
-    label = f"{metres} m"
-    put_text(img, label, (x + metres * PX + 6, y + 9), 0.4)
-    return x + metres * PX + 6 + text_width(label, 0.4)
-
-
-def draw_north_arrow(img: np.ndarray, x: int, y: int) -> None:
-    """An arrow pointing up the picture (north, +y) with an ``N``, its top-left at (x, y)."""
-    cv2.arrowedLine(img, (x + 5, y + 22), (x + 5, y + 2), INK, 2, cv2.LINE_AA, tipLength=0.35)
-    put_text(img, "N", (x + 12, y + 14), 0.4)
-
-
-def plan_footer(spec: HouseSpec) -> list[LegendEntry]:
-    """The symbols a plan's footer explains: doors, the entrance if the house has one, object fronts."""
-    entries = [("door", door_symbol)]
-    if entrances(spec):
-        entries.append(("entrance", entrance_symbol))
-    return entries + [("front of an object", front_symbol)]
-
-
-def draw_footer(img: np.ndarray, spec: HouseSpec, layout: PlanLayout, entries: Sequence[LegendEntry], y: int) -> None:
-    """The scale bar, then ``entries`` (wrapped to the plan's width), then a north arrow, from row ``y``."""
-    x = draw_scale_bar(img, layout.left, y + 6, scale_bar_metres(spec)) + 24
-    draw_legend(img, entries, x, y, layout.left + layout.plan_w - 30 - x)
-    draw_north_arrow(img, layout.left + layout.plan_w - 16, y - 4)
-
-
-def footer_height(spec: HouseSpec, entries: Sequence[LegendEntry]) -> int:
-    """Rows ``draw_footer`` needs below the plan for ``entries``."""
-    width = int(round(spec.footprint[0] * PX))
-    bar = scale_bar_metres(spec) * PX + 6 + text_width("2 m", 0.4) + 24
-    return legend_size(entries, width - 30 - bar)[1] + 12
-
-
 def _category_legend(spec: HouseSpec, numbers: dict[str, int], rows: int) -> tuple[int, list]:
     """The width of the category legend in columns of ``rows`` entries, and each entry's (x, y)."""
     names = list(numbers)
@@ -471,11 +319,6 @@ def render_preview(spec: HouseSpec, *, room_labels: bool = True, object_labels: 
             put_text(img, name.replace("_", " "), (x + _marker_size(99)[0] + 5, y + 13), 0.4)
     draw_footer(img, spec, layout, entries, footer_top(layout))
     return img
-
-
-def footer_top(layout: PlanLayout) -> int:
-    """First row of the footer (scale bar and symbols) under the plan of ``layout``."""
-    return layout.top + layout.plan_h + MARGIN - 4
 
 
 def write_preview(spec: HouseSpec, path: str | Path) -> None:

@@ -18,25 +18,18 @@ import cv2
 import numpy as np
 
 from objsearch.fileio import atomic_write
-from objsearch.house.preview import (
-    HIGHLIGHT,
-    PX,
-    ROW_H,
-    SYMBOL_W,
-    TITLE_H,
+from objsearch.house.plan_canvas import HIGHLIGHT, PX, ROW_H, SYMBOL_W, TITLE_H, PlanLayout, plan_layout, put_text
+from objsearch.house.plan_legend import (
     LegendEntry,
-    PlanLayout,
     draw_footer,
     draw_legend,
-    draw_plan,
     footer_height,
     footer_top,
     front_symbol,
     legend_size,
     plan_footer,
-    plan_layout,
-    put_text,
 )
+from objsearch.house.preview import draw_plan
 from objsearch.sim.navgraph import GRID, HEADING_VECTORS
 from objsearch.sim.world import World
 

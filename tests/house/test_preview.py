@@ -10,20 +10,9 @@ import numpy as np
 import pytest
 
 from objsearch.house.categories import CATEGORY_IDS
-from objsearch.house.preview import (
-    PX,
-    ROW_H,
-    category_numbers,
-    draw_scale_bar,
-    entrances,
-    footer_top,
-    plan_footer,
-    preview_layout,
-    render_preview,
-    room_label,
-    scale_bar_metres,
-    write_preview,
-)
+from objsearch.house.plan_canvas import PX, ROW_H, entrances, scale_bar_metres
+from objsearch.house.plan_legend import draw_scale_bar, footer_top, plan_footer
+from objsearch.house.preview import category_numbers, preview_layout, render_preview, room_label, write_preview
 from objsearch.house.spec import Door, HouseSpec
 
 GOLDEN = Path(__file__).parent / "golden"

@@ -9,7 +9,7 @@ import cv2
 import numpy as np
 import pytest
 
-from objsearch.house.preview import HIGHLIGHT, TITLE_H, plan_layout
+from objsearch.house.plan_canvas import HIGHLIGHT, TITLE_H, plan_layout
 from objsearch.house.spec import HouseSpec
 from objsearch.sim.env import HouseTask
 from objsearch.sim.video import episode_map, map_legend, map_title, write_episode
