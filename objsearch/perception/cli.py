@@ -41,6 +41,13 @@ def add_parser(subparsers) -> None:
     data.add_argument(
         "--size", type=non_negative_int, help="render width and height in pixels (default: 64, the agent camera's)"
     )
+    data.add_argument(
+        "--variety",
+        type=float,
+        default=0.0,
+        help="strength 0..1 of the training frames' variety in object proportions and colours, walls, floors "
+        "and light (objsearch/perception/variety.py; default 0: the houses as they are)",
+    )
     data.add_argument("--quiet", action="store_true", help="no progress bar")
     add_executor_arguments(data, "--out")
     data.set_defaults(func=run_dataset)
@@ -105,6 +112,7 @@ def run_dataset(args: argparse.Namespace) -> int:
         executor=args.executor,
         address=args.address,
         workers=args.workers,
+        variety=args.variety,
     )
     for split, entry in manifest["splits"].items():
         print(f"{split}: {entry['frames']} frames from {len(entry['houses'])} houses")

@@ -53,6 +53,9 @@ SUITE = "house-gen"
 MAX_DEPTH_MM = 65535
 #: Seeds of the generated training houses beyond the suite's 40 (suites use seeds below 4000).
 EXTRA_TRAIN_SEED = 10_000
+#: ``variety``: a training house's poses are rendered in this many groups, each from its own varied model.
+VARIED_GROUPS = 4
+VARIETY_STREAM = 7  # the variety's rng: default_rng([seed, house seed, VARIETY_STREAM])
 #: Houses per split of the default build.
 DEFAULT_HOUSES = {"train": 200, "val": 10, "test": 10}
 
@@ -164,6 +167,7 @@ def build_dataset(
     executor: str = "local",
     address: str | None = None,
     workers: int | None = None,
+    variety: float = 0.0,
 ) -> dict:
     """Render the dataset into ``out`` (resuming: shards already there with the same meta are kept).
 
@@ -178,6 +182,9 @@ def build_dataset(
         executor, address, workers: where the houses' shards are rendered, one task per
             house (``objsearch.cluster.map_houses``; on a Ray cluster ``out`` must be on a
             filesystem every node shares). The files are the same for any of them.
+        variety: strength (0..1) of the appearance variety of training frames
+            (``objsearch.perception.variety``; 0: none, the frames as the houses look). The
+            validation and test frames never vary.
 
     Returns:
         The manifest (also written to ``out/manifest.json`` once every shard is there).
@@ -195,7 +202,9 @@ def build_dataset(
     for split in SPLITS:
         count = poses_per_house if split == "train" else eval_poses_per_house
         plan += [(split, house_id, info, count) for house_id, info in split_houses(split, houses[split]).items()]
-    task = partial(render_shard, out=out.resolve(), settings=settings, seed=seed)
+    if not 0.0 <= variety <= 1.0:
+        raise UserError(f"variety must be between 0 and 1 (got {variety}); 0 renders the houses as they are")
+    task = partial(render_shard, out=out.resolve(), settings=settings, seed=seed, variety=variety)
     shards = map_houses(task, plan, executor, address, workers, desc=f"render {out.name}", progress=progress)
     manifest = {
         "version": DATASET_VERSION,
@@ -208,6 +217,8 @@ def build_dataset(
         "seed": seed,
         "splits": {},
     }
+    if variety:  # recorded only when used, so a build without it keeps its bytes
+        manifest["variety"] = variety
     for (split, house_id, info, _), shard in zip(plan, shards):
         entry = manifest["splits"].setdefault(split, {"houses": {}, "frames": 0, "class_pixels": [0] * NUM_CLASSES})
         entry["houses"][house_id] = {**info, "frames": shard["frames"], "shard": f"{split}/{house_id}.npz"}
@@ -217,10 +228,15 @@ def build_dataset(
     return manifest
 
 
-def render_shard(item: tuple[str, str, dict, int], out: Path, settings, seed: int) -> dict:
+def render_shard(item: tuple[str, str, dict, int], out: Path, settings, seed: int, variety: float = 0.0) -> dict:
     """The task of ``build_dataset``: the shard ``out/<split>/<house id>.npz`` of one house
     (``item``: split, house id, ``HouseRef`` fields, poses), kept if one with the same meta is
-    there. Returns its number of frames and pixel count of every category id."""
+    there. Returns its number of frames and pixel count of every category id.
+
+    With ``variety`` a training house's poses are rendered in ``VARIED_GROUPS`` consecutive
+    groups, group k from the house's model varied with strength ``variety * (k + 1) /
+    VARIED_GROUPS`` (``objsearch.perception.variety.vary_model``, drawn from
+    ``default_rng([seed, house seed, VARIETY_STREAM])``)."""
     from objsearch.sim.renderer import HouseRenderer
     from objsearch.sim.world import HouseRef, World
 
@@ -234,14 +250,31 @@ def render_shard(item: tuple[str, str, dict, int], out: Path, settings, seed: in
         "seed": seed,
         "requested": count,
     }
+    variety = variety if split == "train" else 0.0
+    if variety:
+        meta["variety"] = variety
     shard = read_shard(path) if path.exists() else None
     if shard is None or shard["meta"] != meta:
         world = World.load(HouseRef(**info))
         pose_ids = sample_pose_ids(world.graph.num_poses, count, seed, info["seed"])
-        with HouseRenderer(world.model, settings) as renderer:
-            frames = renderer.render(world.graph.world_poses(pose_ids))
-        write_shard(path, frames.rgb, frames.depth, frames.semantic, pose_ids, meta)
-        semantic = frames.semantic
+        poses = world.graph.world_poses(pose_ids)
+        if variety:
+            from objsearch.perception.variety import vary_model
+
+            rng = np.random.default_rng([seed, info["seed"], VARIETY_STREAM])
+            parts = []
+            for k, group in enumerate(np.array_split(np.arange(len(pose_ids)), VARIED_GROUPS)):
+                model = vary_model(world.model, rng, variety * (k + 1) / VARIED_GROUPS)
+                with HouseRenderer(model, settings) as renderer:
+                    parts.append(renderer.render(poses[group]))
+            rgb, depth, semantic = (
+                np.concatenate([getattr(f, a) for f in parts]) for a in ("rgb", "depth", "semantic")
+            )
+        else:
+            with HouseRenderer(world.model, settings) as renderer:
+                frames = renderer.render(poses)
+            rgb, depth, semantic = frames.rgb, frames.depth, frames.semantic
+        write_shard(path, rgb, depth, semantic, pose_ids, meta)
     else:
         semantic, pose_ids = shard["semantic"], shard["pose_ids"]
     counts = np.bincount(semantic.ravel(), minlength=NUM_CLASSES)
