@@ -1,6 +1,6 @@
 """Perception network inference throughput on the CPU: frames per second at several batch sizes.
 
-    python benchmarks/bench_perception.py [--threads 1] [--size 64] [--batches 1,16,64] [--set KEY=VALUE] [--json]
+    python benchmarks/bench_perception.py [--threads 1] [--size 64] [--batches 1,16,64] [--set KEY=VALUE] [--baseline] [--json]
 
 The default ``SegDepthNet`` (``objsearch.perception.model.ModelConfig()``, or with ``--set``
 fields of it, e.g. ``--set separable=true --set decoder=48``), random
@@ -12,6 +12,8 @@ the median of ``--repeats`` timed runs of at least ``--seconds`` after a warm-up
 ``reference`` is the inference path before issue 15 (full-resolution logits from
 ``forward``, then the argmax), measured in the same run: the same ids and depth, bit for bit
 (``tests/perception/test_perception_model.py``), so the ratio is the speed-up alone.
+``--baseline`` also times ``Predictor.predict`` of the default network (``ModelConfig()``) in
+the same run, interleaved: the speed-up of a ``--set`` variant over it.
 """
 
 from __future__ import annotations
@@ -67,6 +69,9 @@ def main() -> None:
         metavar="KEY=VALUE",
         help="a ModelConfig field; repeatable",
     )
+    parser.add_argument(
+        "--baseline", action="store_true", help="also time the default network in the same run, interleaved"
+    )
     parser.add_argument("--json", action="store_true", help="print one JSON object")
     args = parser.parse_args()
     torch.set_num_threads(args.threads)
@@ -76,6 +81,11 @@ def main() -> None:
     predictor = Predictor(model, RenderSettings(width=args.size, height=args.size), key="bench", device="cpu")
     rng = np.random.default_rng(0)
     paths = {"predict": predictor.predict, "reference": lambda rgb: reference_predict(predictor, rgb)}
+    if args.baseline:
+        default = SegDepthNet(ModelConfig())
+        init_weights(default, torch.Generator().manual_seed(0))
+        settings = RenderSettings(width=args.size, height=args.size)
+        paths["default"] = Predictor(default, settings, key="bench-default", device="cpu").predict
     results = {path: {} for path in paths}
     for batch in (int(b) for b in args.batches.split(",")):
         rgb = rng.integers(0, 256, (batch, args.size, args.size, 3), dtype=np.uint8)
@@ -92,16 +102,22 @@ def main() -> None:
         "frames_per_second": {str(b): round(v, 1) for b, v in results["predict"].items()},
         "reference_frames_per_second": {str(b): round(v, 1) for b, v in results["reference"].items()},
     }
+    if args.baseline:
+        info["default_frames_per_second"] = {str(b): round(v, 1) for b, v in results["default"].items()}
     if args.json:
         print(json.dumps(info))
         return
     print(
         f"SegDepthNet {info['parameters']:,} parameters, {args.size}x{args.size}, {args.threads} thread(s), torch {torch.__version__}"
     )
-    print(f"{'batch':>6} {'frames/s':>10} {'reference':>10} {'speed-up':>9}")
+    extra = f" {'default':>10} {'vs default':>10}" if args.baseline else ""
+    print(f"{'batch':>6} {'frames/s':>10} {'reference':>10} {'speed-up':>9}{extra}")
     for batch, fps in results["predict"].items():
         ref = results["reference"][batch]
-        print(f"{batch:>6} {fps:>10.1f} {ref:>10.1f} {fps / ref:>8.2f}x")
+        if args.baseline:
+            base = results["default"][batch]
+            extra = f" {base:>10.1f} {fps / base:>9.2f}x"
+        print(f"{batch:>6} {fps:>10.1f} {ref:>10.1f} {fps / ref:>8.2f}x{extra}")
 
 
 if __name__ == "__main__":

@@ -80,6 +80,57 @@ def test_predict_labels_is_the_argmax_of_forward_exactly():
         assert not model.predict_labels(x)[0].any() and not model(x)[0].argmax(dim=1).any()
 
 
+FAST_TINY = dataclasses.replace(TINY_MODEL, decoder_stride=4, separable=True)  # the fast layout
+
+
+@pytest.mark.parametrize("batch", [1, 3])
+@pytest.mark.parametrize("size", [(32, 32), (64, 64), (48, 80)])
+def test_decoder_stride_4_shapes_and_predict_labels_is_the_argmax_of_forward(size, batch):
+    """Skip, decoder and heads at 1/4, pixel shuffle x4, the segmentation head one frame at a
+    time: full-resolution outputs, and predict_labels gives forward's ids and depth bit for bit."""
+    model = SegDepthNet(FAST_TINY).eval()
+    init_weights(model, torch.Generator().manual_seed(1))
+    assert model.seg_head.out_channels == 16 * NUM_CLASSES and model.depth_head.out_channels == 16
+    x = torch.rand(batch, 3, *size, generator=torch.Generator().manual_seed(2))
+    with torch.no_grad():
+        logits, log_depth = model(x)
+        assert logits.shape == (batch, NUM_CLASSES, *size) and log_depth.shape == (batch, *size)
+        labels, log_depth2 = model.predict_labels(x)
+        assert torch.equal(labels, logits.argmax(dim=1)) and torch.equal(log_depth, log_depth2)
+        assert len(labels.unique()) > 5
+    with pytest.raises(ValueError, match="multiple of 8"):
+        model(torch.rand(1, 3, 30, 32))
+
+
+def test_decoder_stride_4_pixel_layout_and_ties():
+    """Channel c * 16 + 4 * i + j is class c at pixel (4y + i, 4x + j), in both paths; at a tie
+    both take the first class."""
+    model = SegDepthNet(FAST_TINY).eval()
+    init_weights(model, torch.Generator().manual_seed(0))
+    sofa = CATEGORY_IDS["sofa"]
+    x = torch.rand(2, 3, 32, 48, generator=torch.Generator().manual_seed(3))
+    with torch.no_grad():
+        model.seg_head.weight.zero_()
+        model.seg_head.bias.zero_()  # every class ties everywhere: id 0
+        assert not model.predict_labels(x)[0].any() and not model(x)[0].argmax(dim=1).any()
+        model.seg_head.bias[16 * sofa + 4 * 1 + 2] = 1.0  # sofa at sub-pixel (1, 2) of every 4 x 4 block
+        expected = torch.zeros(2, 32, 48, dtype=torch.long)
+        expected[:, 1::4, 2::4] = sofa
+        assert torch.equal(model.predict_labels(x)[0], expected) and torch.equal(model(x)[0].argmax(dim=1), expected)
+
+
+def test_decoder_stride_is_2_or_4_and_defaults_to_the_shipped_layout():
+    assert ModelConfig().decoder_stride == 2  # the shipped network
+    data = FAST_TINY.to_json()
+    del data["decoder_stride"]  # a checkpoint written before the field
+    assert ModelConfig.from_json(data).decoder_stride == 2
+    plain = SegDepthNet(TINY_MODEL)
+    assert plain.seg_head.out_channels == 4 * NUM_CLASSES and plain.layer1.conv1.stride == (1, 1)
+    assert SegDepthNet(FAST_TINY).layer1.conv1[0].stride == (2, 2)  # separable: the depthwise conv strides
+    with pytest.raises(UserError, match="decoder_stride must be 2 or 4"):
+        dataclasses.replace(TINY_MODEL, decoder_stride=8)
+
+
 def test_checkpoint_round_trip_and_key(tmp_path):
     model = SegDepthNet(TINY_MODEL)
     init_weights(model, torch.Generator().manual_seed(1))
