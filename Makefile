@@ -43,10 +43,10 @@ LEADERBOARD_GRID_AGENTS ?= dqn hdqn hrl_grg hrl_grg_no_relation hrl_grg_no_termi
 LEADERBOARD_GREEDY ?= dqn_greedy=objsearch_agents.dqn:DQNGreedyAgent hdqn_greedy=objsearch_agents.hdqn:HDQNGreedyAgent \
 	hrl_grg_greedy=objsearch_agents.hrl_grg:HRLGRGGreedyAgent
 # house agents with shipped checkpoints: suite:agent, each evaluated on gt and on predicted observations
-# (predictions of house-gen's 20 evaluation houses: about 40 minutes of one core the first time, a cache build)
+# (predictions of house-gen's and house-gen-v2's 20 evaluation houses: 20-40 minutes of one core each the first time, a cache build)
 LEADERBOARD_HOUSE ?= house-single:a3c house-single:dqn house-single:hdqn house-single:hrl_grg \
 	house-multi:a3c house-multi:dqn house-multi:hdqn house-multi:hrl_grg \
-	house-gen:a3c house-gen:dqn house-gen:hrl_grg
+	house-gen:a3c house-gen:dqn house-gen:hrl_grg house-gen-v2:a3c house-gen-v2:hrl_grg
 # then replay that many episodes of every stored entry (objsearch leaderboard verify --all: ~3 min
 # with warm caches on the 2-core machine; the evaluations above have built the caches it reads)
 LEADERBOARD_VERIFY_EPISODES ?= 8
