@@ -237,6 +237,7 @@ def render_shard(item: tuple[str, str, dict, int], out: Path, settings, seed: in
     groups, group k from the house's model varied with strength ``variety * (k + 1) /
     VARIED_GROUPS`` (``objsearch.perception.variety.vary_model``, drawn from
     ``default_rng([seed, house seed, VARIETY_STREAM])``)."""
+    from objsearch.perception.variety import vary_model
     from objsearch.sim.renderer import HouseRenderer
     from objsearch.sim.world import HouseRef, World
 
@@ -258,22 +259,14 @@ def render_shard(item: tuple[str, str, dict, int], out: Path, settings, seed: in
         world = World.load(HouseRef(**info))
         pose_ids = sample_pose_ids(world.graph.num_poses, count, seed, info["seed"])
         poses = world.graph.world_poses(pose_ids)
-        if variety:
-            from objsearch.perception.variety import vary_model
-
-            rng = np.random.default_rng([seed, info["seed"], VARIETY_STREAM])
-            parts = []
-            for k, group in enumerate(np.array_split(np.arange(len(pose_ids)), VARIED_GROUPS)):
-                model = vary_model(world.model, rng, variety * (k + 1) / VARIED_GROUPS)
-                with HouseRenderer(model, settings) as renderer:
-                    parts.append(renderer.render(poses[group]))
-            rgb, depth, semantic = (
-                np.concatenate([getattr(f, a) for f in parts]) for a in ("rgb", "depth", "semantic")
-            )
-        else:
-            with HouseRenderer(world.model, settings) as renderer:
-                frames = renderer.render(poses)
-            rgb, depth, semantic = frames.rgb, frames.depth, frames.semantic
+        rng = np.random.default_rng([seed, info["seed"], VARIETY_STREAM])
+        groups = np.array_split(np.arange(len(pose_ids)), VARIED_GROUPS if variety else 1)
+        parts = []
+        for k, group in enumerate(groups):
+            model = vary_model(world.model, rng, variety * (k + 1) / len(groups)) if variety else world.model
+            with HouseRenderer(model, settings) as renderer:
+                parts.append(renderer.render(poses[group]))
+        rgb, depth, semantic = (np.concatenate([getattr(f, a) for f in parts]) for a in ("rgb", "depth", "semantic"))
         write_shard(path, rgb, depth, semantic, pose_ids, meta)
     else:
         semantic, pose_ids = shard["semantic"], shard["pose_ids"]
