@@ -34,7 +34,7 @@ def add_parser(subparsers) -> None:
         type=non_negative_int,
         help="training houses: house-gen's 40, then generated ones (default: 200)",
     )
-    for split in ("val", "test"):
+    for split in ("val", "test", "test-seen-shapes"):
         data.add_argument(
             f"--{split}-houses", type=non_negative_int, help=f"use only the first N of the 10 {split} houses"
         )
@@ -78,7 +78,12 @@ def add_parser(subparsers) -> None:
         "--checkpoint", help="RUN/model.pt written by objsearch perception train (default: the shipped one)"
     )
     ev.add_argument("--data", required=True, help="dataset folder")
-    ev.add_argument("--split", default="test", help="test (default: unseen houses and object instances), val or train")
+    ev.add_argument(
+        "--split",
+        default="test",
+        help="test (default: unseen houses and object instances), test-seen-shapes (unseen houses, "
+        "training object shapes), val or train",
+    )
     ev.add_argument("--max-frames", type=non_negative_int, help="evaluate only the first N frames")
     ev.add_argument("--device", default="auto", help="auto (default), cpu or cuda")
     ev.add_argument(
@@ -93,14 +98,13 @@ def run_dataset(args: argparse.Namespace) -> int:
     """``objsearch perception dataset``: render the frames of the dataset into ``--out``; returns 0."""
     from dataclasses import replace
 
-    from objsearch.perception.dataset import build_dataset
+    from objsearch.perception.dataset import SPLITS, build_dataset
     from objsearch.sim.camera import AGENT_CAMERA
 
     check_executor_arguments(args)
     settings = AGENT_CAMERA if args.size is None else replace(AGENT_CAMERA, width=args.size, height=args.size)
-    limits = {
-        s: getattr(args, f"{s}_houses") for s in ("train", "val", "test") if getattr(args, f"{s}_houses") is not None
-    }
+    wanted = {s: getattr(args, f"{s.replace('-', '_')}_houses") for s in SPLITS}
+    limits = {s: n for s, n in wanted.items() if n is not None}
     manifest = build_dataset(
         args.out,
         settings=settings,

@@ -60,6 +60,10 @@ class TrainConfig(JsonConfig):
     """torch CPU threads (0: torch's default, the number of cores)."""
     model: ModelConfig = field(default_factory=ModelConfig)
     """Network widths (``--set model.stem=16``)."""
+    init: str = ""
+    """A perception ``model.pt`` whose weights start the run instead of the seeded initialisation
+    (fine-tuning, or more steps for a finished run under a new schedule); it must have this
+    run's ``model`` and have been trained on frames of the dataset's camera. Empty: random weights."""
 
     def __post_init__(self):
         if self.class_weighting not in WEIGHTINGS:

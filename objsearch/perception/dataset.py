@@ -10,7 +10,11 @@ Frames are rendered at agent poses (pose-graph poses: 0.25 m cells, 4 headings) 
   houses it fitted them (training-house mIoU 0.53) far better than it generalised to
   unseen ones (0.23);
 * ``val``: its 10 validation houses, ``test``: its 10 test houses (generator split
-  ``test``: held-out mesh variants, so evaluation sees unseen object instances).
+  ``test``: held-out mesh variants, so evaluation sees unseen object instances);
+* ``test-seen-shapes``: 10 houses generated from seeds ``SEEN_SHAPES_SEED`` + 0, 1, ... with
+  the generator split ``train``: unseen houses furnished with the training mesh variants.
+  Beside ``test`` it splits a network's generalisation gap in two: new houses, and new
+  object shapes (``docs/perception.md``, "Where the gap is").
 
 Each house gets ``poses_per_house`` poses drawn without replacement by
 ``numpy.random.default_rng([seed, house seed])`` (independent of the order and number of
@@ -28,8 +32,8 @@ On disk (``OUT/``)::
 
 Sizes at 64 x 64: 24 KiB a frame raw (12 rgb + 8 depth + 4 semantic), about 2-3 KiB
 compressed (flat-shaded synthetic images compress well). The default build (200 poses x
-200 training houses, 200 x 10 val and 200 x 10 test) holds 44,000 frames (40,000 / 2,000 /
-2,000), about 100 MB on disk and 1.4 GB in memory (depth as float32); see
+200 training houses, 200 x 10 val, 200 x 10 test and 200 x 10 test-seen-shapes) holds 46,000
+frames (40,000 / 2,000 / 2,000 / 2,000), about 93 MB on disk and 1.4 GB in memory (depth as float32); see
 ``docs/perception.md`` for its build time.
 """
 
@@ -48,16 +52,18 @@ from objsearch.house.categories import CATEGORY_TABLE_VERSION
 from objsearch.perception.model import NUM_CLASSES
 
 DATASET_VERSION = "perception-data-v1"
-SPLITS = ("train", "val", "test")
+SPLITS = ("train", "val", "test", "test-seen-shapes")
 SUITE = "house-gen"
 MAX_DEPTH_MM = 65535
 #: Seeds of the generated training houses beyond the suite's 40 (suites use seeds below 4000).
 EXTRA_TRAIN_SEED = 10_000
+#: Seeds of the ``test-seen-shapes`` houses (no suite and no other split uses them).
+SEEN_SHAPES_SEED = 20_000
 #: ``variety``: a training house's poses are rendered in this many groups, each from its own varied model.
 VARIED_GROUPS = 4
 VARIETY_STREAM = 7  # the variety's rng: default_rng([seed, house seed, VARIETY_STREAM])
 #: Houses per split of the default build.
-DEFAULT_HOUSES = {"train": 200, "val": 10, "test": 10}
+DEFAULT_HOUSES = {"train": 200, "val": 10, "test": 10, "test-seen-shapes": 10}
 
 
 @dataclass
@@ -84,7 +90,7 @@ def split_houses(split: str, count: int | None = None) -> dict[str, dict]:
     """house id -> HouseRef fields of the first ``count`` houses of ``split`` (default: the suite's).
 
     ``train`` takes any count: past the suite's 40 training houses it generates houses from
-    seeds ``EXTRA_TRAIN_SEED`` + i (about 0.2 s each). ``val`` and ``test`` have 10 each.
+    seeds ``EXTRA_TRAIN_SEED`` + i (about 0.2 s each). The other splits have 10 each.
     """
     from objsearch.sim.suites import load_suite_file
 
@@ -93,6 +99,8 @@ def split_houses(split: str, count: int | None = None) -> dict[str, dict]:
     suite = load_suite_file(SUITE)
     if split == "train":
         houses = sorted(suite["training_houses"].items())
+    elif split == "test-seen-shapes":
+        houses = _generated(SEEN_SHAPES_SEED, DEFAULT_HOUSES[split] if count is None else min(count, 10))
     else:
         prefix = {"val": "test_002", "test": "test_003"}[split]  # house-gen: val seeds 2000.., test seeds 3000..
         houses = sorted((h, info) for h, info in suite["houses"].items() if h.startswith(prefix))
@@ -100,14 +108,21 @@ def split_houses(split: str, count: int | None = None) -> dict[str, dict]:
     if count > len(houses) and split != "train":
         raise UserError(f"the {split} split has {len(houses)} houses, not {count}; ask for at most {len(houses)}")
     if count > len(houses):
-        from objsearch.sim.suites import house_entry
-        from objsearch.sim.world import HouseRef, World
-
-        for seed in range(EXTRA_TRAIN_SEED, EXTRA_TRAIN_SEED + count - len(houses)):
-            ref = HouseRef(seed=seed, split="train")
-            world = World.load(ref)
-            houses.append((world.house_id, house_entry(world, ref)))
+        houses += _generated(EXTRA_TRAIN_SEED, count - len(houses))
     return dict(houses[:count])
+
+
+def _generated(first_seed: int, count: int) -> list[tuple[str, dict]]:
+    """(house id, ``HouseRef`` fields) of ``count`` houses generated as training houses from seeds ``first_seed`` + i."""
+    from objsearch.sim.suites import house_entry
+    from objsearch.sim.world import HouseRef, World
+
+    houses = []
+    for seed in range(first_seed, first_seed + count):
+        ref = HouseRef(seed=seed, split="train")
+        world = World.load(ref)
+        houses.append((world.house_id, house_entry(world, ref)))
+    return houses
 
 
 def sample_pose_ids(num_poses: int, count: int, seed: int, house_seed: int) -> np.ndarray:

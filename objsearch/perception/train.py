@@ -31,8 +31,14 @@ from objsearch.fileio import write_csv
 from objsearch.interrupt import stop_on_interrupt
 from objsearch.perception.config import TrainConfig
 from objsearch.perception.dataset import load_split, read_manifest
-from objsearch.perception.inference import Predictor, evaluate, save_checkpoint
-from objsearch.perception.model import NUM_CLASSES, SegDepthNet, pick_device
+from objsearch.perception.inference import (
+    Predictor,
+    checkpoint_settings,
+    evaluate,
+    load_checkpoint,
+    save_checkpoint,
+)
+from objsearch.perception.model import NUM_CLASSES, ModelConfig, SegDepthNet, pick_device
 from objsearch.sim.camera import RenderSettings
 
 CONFIG_FILE, MODEL_FILE, STATE_FILE, LOG_FILE = "config.json", "model.pt", "state.pt", "log.csv"
@@ -60,6 +66,22 @@ def init_weights(model: SegDepthNet, generator: torch.Generator) -> None:
                 torch.nn.init.kaiming_normal_(module.weight, mode="fan_out", nonlinearity="relu", generator=generator)
             if module.bias is not None:
                 torch.nn.init.constant_(module.bias, 1.0 if module is model.depth_head else 0.0)
+
+
+def start_from(model: SegDepthNet, path: str, settings: RenderSettings) -> None:
+    """Load the weights of the perception checkpoint ``path`` (``TrainConfig.init``) into
+    ``model``; ``UserError`` if its network or its training frames' camera differ."""
+    state = load_checkpoint(path)
+    saved = ModelConfig.from_json(state["model_config"], source=f"the model_config of checkpoint {path}")
+    if saved != model.config:
+        changed = [k for k, v in model.config.to_json().items() if saved.to_json().get(k) != v]
+        raise UserError(
+            f"init={path} is a network with other {', '.join(changed)} than this run's model; "
+            "drop the --set model.* overrides that differ, or start without init"
+        )
+    if checkpoint_settings(state, path) != settings:
+        raise UserError(f"init={path} was trained on frames of another camera than this dataset's; start without init")
+    model.load_state_dict(state["state_dict"])
 
 
 def class_weights(class_pixels, kind: str) -> torch.Tensor:
@@ -126,6 +148,8 @@ class TrainRun:
         self.weights = weights.to(self.device)
         self.model = SegDepthNet(config.model)
         init_weights(self.model, torch.Generator().manual_seed(config.seed))
+        if config.init:
+            start_from(self.model, config.init, self.settings)
         self.model.to(self.device)
         self.optimizer = torch.optim.AdamW(self.model.parameters(), lr=config.lr, weight_decay=config.weight_decay)
         self.step, self.wall_s, self.rows, self._window = 0, 0.0, [], []

@@ -32,6 +32,8 @@ def test_dataset_train_eval_json(tmp_path, capsys):
         "0",
         "--test-houses",
         "1",
+        "--test-seen-shapes-houses",
+        "1",
         "--poses-per-house",
         "16",
         "--eval-poses-per-house",
@@ -43,6 +45,7 @@ def test_dataset_train_eval_json(tmp_path, capsys):
     )
     assert r.returncode == 0, r.stderr
     assert "train: 16 frames from 1 houses" in r.stdout and (data / "manifest.json").exists()
+    assert "test-seen-shapes: 8 frames from 1 houses" in r.stdout
     small = [
         "--set",
         "model.stem=8",
@@ -89,6 +92,10 @@ def test_dataset_train_eval_json(tmp_path, capsys):
         "per_category",
     } <= set(result)
     assert result["split"] == "test" and result["frames"] == 8
+    r = _run(
+        "eval", "--checkpoint", str(run / "model.pt"), "--data", str(data), "--split", "test-seen-shapes", cwd=tmp_path
+    )
+    assert r.returncode == 0 and "test-seen-shapes: 8 frames from 1 houses" in r.stdout, r.stderr
     # bad input: exit 2 with a message naming it (in-process: no second interpreter start)
     assert main(["perception", "eval", "--checkpoint", str(tmp_path / "missing.pt"), "--data", str(data)]) == 2
     assert "missing.pt" in capsys.readouterr().err

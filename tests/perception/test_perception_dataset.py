@@ -67,3 +67,17 @@ def test_built_dataset_matches_its_manifest(tiny_dataset):
     assert counts.tolist() == manifest["splits"]["train"]["class_pixels"]
     with pytest.raises(UserError, match="no 'test' split"):
         load_split(tiny_dataset, "test")
+
+
+def test_the_seen_shapes_split_is_unseen_houses_with_training_mesh_variants():
+    from objsearch.perception.dataset import SEEN_SHAPES_SEED, split_houses
+
+    houses = split_houses("test-seen-shapes")
+    assert len(houses) == 10 and len(split_houses("test-seen-shapes", 2)) == 2
+    # generated as training houses (training mesh variants) from seeds that no training house has
+    assert {info["split"] for info in houses.values()} == {"train"}
+    assert min(info["seed"] for info in houses.values()) >= SEEN_SHAPES_SEED
+    others = {h for split in ("train", "val", "test") for h in split_houses(split)}
+    assert not set(houses) & others
+    with pytest.raises(UserError, match="10 houses, not 11"):
+        split_houses("test-seen-shapes", 11)

@@ -75,3 +75,21 @@ def test_log_rows_reach_log_csv_before_any_checkpoint(tiny_dataset, tmp_path, mo
     assert run.run(progress=False)
     rows = list(csv.DictReader((tmp_path / "run" / "log.csv").open()))
     assert [r["step"] for r in rows] == ["1", "2", "3"] and not (tmp_path / "run" / "model.pt").exists()
+
+
+def test_init_starts_a_run_from_a_checkpoints_weights_and_refuses_another_network(tiny_dataset, tmp_path):
+    import pytest
+
+    from objsearch.errors import UserError
+
+    first = TrainRun(_config(tiny_dataset, steps=3), tmp_path / "a")
+    assert first.run(progress=False)
+    init = str(tmp_path / "a" / "model.pt")
+    second = TrainRun(_config(tiny_dataset, steps=3, seed=7, init=init), tmp_path / "b")
+    for name, tensor in first.model.state_dict().items():
+        assert torch.equal(tensor, second.model.state_dict()[name]), name  # not seed 7's random weights
+    assert second.run(progress=False)
+    assert TrainConfig.load(tmp_path / "b" / "config.json").init == init  # the run records where it started
+    wider = dataclasses.replace(TINY_MODEL, decoder=48)
+    with pytest.raises(UserError, match="init=.*decoder"):
+        TrainRun(_config(tiny_dataset, init=init, model=wider), tmp_path / "c")
