@@ -9,6 +9,7 @@ from pathlib import Path
 import pytest
 
 from objsearch.cli import main
+from objsearch.sim import suite_build
 from objsearch.sim import suites as sim_suites
 
 BIN = Path(sys.executable).parent
@@ -18,7 +19,7 @@ def test_data_rebuild_suites_is_suite_rebuild(monkeypatch, tmp_path, capsys):
     """One implementation behind both commands: the same file and the same report."""
     built = {"suite": "house-single", "version": "house-single-v1", "houses": {}}
     monkeypatch.setattr(sim_suites, "DATA_DIR", tmp_path)
-    monkeypatch.setattr(sim_suites, "build_suite", lambda name, cache_dir=None: {**built, "suite": name})
+    monkeypatch.setattr(suite_build, "build_suite", lambda name, cache_dir=None: {**built, "suite": name})
     assert main(["data", "rebuild", "suites", "house-single", "--cache-dir", str(tmp_path)]) == 0
     via_data = (tmp_path / "house-single.json").read_text(), capsys.readouterr().out
     (tmp_path / "house-single.json").unlink()

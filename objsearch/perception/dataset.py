@@ -114,7 +114,7 @@ def split_houses(split: str, count: int | None = None) -> dict[str, dict]:
 
 def _generated(first_seed: int, count: int) -> list[tuple[str, dict]]:
     """(house id, ``HouseRef`` fields) of ``count`` houses generated as training houses from seeds ``first_seed`` + i."""
-    from objsearch.sim.suites import house_entry
+    from objsearch.sim.suite_build import house_entry
     from objsearch.sim.world import HouseRef, World
 
     houses = []

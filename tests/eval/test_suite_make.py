@@ -71,7 +71,8 @@ def test_the_suite_file_is_made_as_the_shipped_ones_and_is_deterministic(made, c
     from objsearch.sim.cache import HouseCache
     from objsearch.sim.env import START_STEPS
     from objsearch.sim.goals import GOAL_CAMERA, goal_poses
-    from objsearch.sim.suites import TARGETS, load_houses, load_suite_file
+    from objsearch.sim.suite_build import TARGETS
+    from objsearch.sim.suites import load_houses, load_suite_file
 
     path = made / "my-suite.json"
     raw = json.loads(path.read_text())

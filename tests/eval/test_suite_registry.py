@@ -11,6 +11,7 @@ import pytest
 from objsearch.cli import main
 from objsearch.errors import UserError
 from objsearch.eval.suites import SUITES, WORLDS, make_suite, suite_class, suites_taking
+from objsearch.sim import suite_build
 from objsearch.sim import suites as sim_suites
 
 
@@ -47,7 +48,7 @@ def test_suite_list_prints_every_registered_suite(capsys):
 def test_suite_rebuild_writes_the_builders_file_where_the_harness_reads_it(monkeypatch, tmp_path, capsys):
     built = {"suite": "house-multi", "version": "house-multi-v1", "houses": {}}
     monkeypatch.setattr(sim_suites, "DATA_DIR", tmp_path)
-    monkeypatch.setattr(sim_suites, "build_suite", lambda name, cache_dir=None: {**built, "suite": name})
+    monkeypatch.setattr(suite_build, "build_suite", lambda name, cache_dir=None: {**built, "suite": name})
     assert main(["suite", "rebuild", "house-multi", "--cache-dir", str(tmp_path)]) == 0
     assert (tmp_path / "house-multi.json").read_text() == json.dumps(built) + "\n"  # one line, as shipped
     assert f"wrote {tmp_path / 'house-multi.json'}" in capsys.readouterr().out

@@ -8,7 +8,8 @@ import pytest
 from objsearch.errors import UserError
 from objsearch.sim.env import ENTRANCE_STEPS, START_STEPS, HouseEnv, draw_start, entrance_poses
 from objsearch.sim.navgraph import GRID
-from objsearch.sim.suites import _episodes, load_houses, load_suite_file
+from objsearch.sim.suite_build import _episodes
+from objsearch.sim.suites import load_houses, load_suite_file
 from objsearch.sim.world import HouseRef, World
 
 V2_HOUSE = HouseRef(seed=3, generator="house-gen-2")

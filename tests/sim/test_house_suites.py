@@ -93,7 +93,7 @@ def test_video_writes_map_and_mp4(tmp_path):
 def test_house_single_file_is_reproduced_by_its_builder(cache_dir):
     """The shipped file is the benchmark; if this fails the builder, generator or goal rule
     changed: bump the suite version and rebuild it deliberately."""
-    from objsearch.sim.suites import build_suite
+    from objsearch.sim.suite_build import build_suite
 
     assert build_suite("house-single", cache_dir) == load_suite_file("house-single")
 

@@ -26,7 +26,8 @@ from objsearch.errors import UserError
 def add_parser(subparsers) -> None:
     """Add ``objsearch suite`` (list, make, rebuild) to ``subparsers``."""
     from objsearch.sim.env import STARTS
-    from objsearch.sim.suites import EPISODES_PER_SPLIT, SUITE_NAMES
+    from objsearch.sim.suite_build import EPISODES_PER_SPLIT
+    from objsearch.sim.suites import SUITE_NAMES
 
     parser = subparsers.add_parser(
         "suite",
@@ -101,7 +102,8 @@ def run_list(args: argparse.Namespace) -> int:
 
 def run_make(args: argparse.Namespace) -> int:
     """``objsearch suite make``: write a suite file from generated houses; ``UserError`` if ``--out`` is not .json."""
-    from objsearch.sim.suites import suite_from_houses, write_suite_file
+    from objsearch.sim.suite_build import suite_from_houses
+    from objsearch.sim.suites import write_suite_file
 
     if not args.out.endswith(".json"):
         raise UserError(
@@ -122,7 +124,8 @@ def run_make(args: argparse.Namespace) -> int:
 
 def run_rebuild(args: argparse.Namespace) -> int:
     """``objsearch suite rebuild``: rebuild the named shipped suite files under ``objsearch/sim/data``."""
-    from objsearch.sim.suites import DATA_DIR, build_suite, write_suite_file
+    from objsearch.sim.suite_build import build_suite
+    from objsearch.sim.suites import DATA_DIR, write_suite_file
 
     for name in args.names:
         path = DATA_DIR / f"{name}.json"
