@@ -67,6 +67,8 @@ class HouseAgent:
         self.policy, files = load_policy(path, self._check_trained_for)
         self.loaded_from = str(files[0])
         self.weights_sha256 = digests.of_files(files)
+        # the harness refuses predictions of another network than the one this policy learned from
+        self.trained_perception_key = self.policy.perception_key
 
     def _check_trained_for(self, saved: HouseAgentConfig, path: Path) -> None:
         """Refuse a checkpoint trained as another agent or on another suite than this one's."""

@@ -6,8 +6,10 @@ A run's folder holds ``config.json`` (the ``HouseAgentConfig``), ``command.txt``
 ``log.csv``, ``state.pt`` (everything needed to resume) and the evaluable policy:
 ``policy.pt``, a weights-only torch file (``objsearch.torchfile``) of ``{"kind":
 "objsearch-house-policy", "config": the config's JSON, "camera": the agent camera's JSON,
-"ac", "q", "explore": state dicts or None}``, with ``grg.npz`` beside it for HRL-GRG. The
-shipped checkpoints (``agents/checkpoints/<suite>/<agent>/``) are such folders.
+"ac", "q", "explore": state dicts or None}``, with ``grg.npz`` beside it for HRL-GRG. A policy
+trained on predicted observations also holds ``"perception"``: the key of the perception
+network whose predictions it learned from (``objsearch.perception.inference.checkpoint_key``).
+The shipped checkpoints (``agents/checkpoints/<suite>/<agent>/``) are such folders.
 """
 
 from __future__ import annotations
@@ -31,8 +33,9 @@ def load_checkpoint_file(path: Path) -> dict:
     return torchfile.load(path, "a file written by objsearch train")
 
 
-def save_policy(policy: HousePolicy, out: Path) -> None:
-    """The evaluable policy: ``policy.pt`` (config, camera and network weights) and ``grg.npz``."""
+def save_policy(policy: HousePolicy, out: Path, perception_key: str | None = None) -> None:
+    """The evaluable policy: ``policy.pt`` (config, camera and network weights, and
+    ``perception_key`` if it trained on a perception network's predictions) and ``grg.npz``."""
     state = {
         "kind": POLICY_KIND,
         "config": policy.config.to_json(),
@@ -41,6 +44,8 @@ def save_policy(policy: HousePolicy, out: Path) -> None:
         "q": policy.q.state_dict() if policy.q is not None else None,
         "explore": policy.explore.state_dict() if policy.explore is not None else None,
     }
+    if perception_key is not None:
+        state["perception"] = perception_key
     torchfile.save(out / POLICY_FILE, state)
     if policy.grg is not None:
         policy.grg.save(out / GRG_FILE)
@@ -78,6 +83,7 @@ def load_policy(
             "trained with that camera",
         )
         policy = HousePolicy(saved)
+        policy.perception_key = state.get("perception")
         if policy.ac is not None:
             policy.ac.load_state_dict(state["ac"])
         if policy.q is not None:

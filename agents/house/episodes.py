@@ -62,6 +62,7 @@ class TrainingHouses:
     def __init__(self, refs: list[HouseRef], targets: list[str], cache_dir=None, predictor=None, progress: bool = True):
         self.worlds = [World.load(ref) for ref in refs]
         self.house_ids = [w.house_id for w in self.worlds]
+        self.perception_key = None if predictor is None else predictor.key  # what the agent learns to see
         per_house, self.pairs = [], []
         offset = 0
         target_ids = {CATEGORY_IDS[t] for t in targets}

@@ -96,6 +96,8 @@ class HousePolicy:
 
     def __init__(self, config: HouseAgentConfig):
         self.config = c = config
+        self.perception_key: str | None = None
+        """Loaded from a policy trained on predicted observations: the key of the perception network it learned from."""
         self.ac = seeded_init(ActorCritic, c.seed) if c.method != "dqn" else None
         self.explore = seeded_init(ActorCritic, c.seed + 2) if c.hierarchical and c.explorer else None
         self.q = None

@@ -341,7 +341,7 @@ class HouseTrainRun:
 
     def save(self) -> None:
         self.out.mkdir(parents=True, exist_ok=True)
-        save_policy(self.policy, self.out)
+        save_policy(self.policy, self.out, self.houses.perception_key)
         write_csv(self.out / LOG_FILE, LOG_FIELDS, self.rows)
         torchfile.save(self.out / STATE_FILE, self.state_dict())
 

@@ -97,6 +97,19 @@ def video_units_of(suite, splits: list[str], seeds: tuple[int, ...], episodes: i
     ]
 
 
+def check_perception(agent, suite) -> None:
+    """Refuse an agent trained on one perception network's predictions (its
+    ``trained_perception_key``) evaluated on another's: its numbers would measure neither."""
+    trained = getattr(agent, "trained_perception_key", None)
+    predictor = getattr(suite, "predictor", None)
+    if trained and predictor is not None and predictor.key != trained:
+        raise UserError(
+            f"the agent's checkpoint {getattr(agent, 'loaded_from', '')} was trained on the predictions of "
+            f"perception network {trained}, not those of {predictor.key} ({suite.perception}); pass --perception "
+            "with the network it was trained on, or evaluate a checkpoint trained on this one"
+        )
+
+
 def evaluate(
     config: EvalConfig,
     workers: int = 1,
@@ -132,6 +145,7 @@ def evaluate(
         raise UserError(f"--video is not available for suite {config.suite!r} (house suites have it)")
     folder = os.getcwd()
     agent = make_agent(config.agent, config.checkpoint, config.suite, folder)  # fail fast, before any worker starts
+    check_perception(agent, suite)
     # replace, not a new EvalConfig: every other field (and any field added later) is kept
     config = replace(
         config, splits=tuple(splits), suite_config=suite.config(), weights_sha256=getattr(agent, "weights_sha256", None)

@@ -63,6 +63,9 @@ HOUSE3D_TABLE = ("random", "dqn", "a3c", "hdqn", "hrl_grg")
 """The rows of the paper's Table 3 (its "Hrl" is our ``hdqn``), by submission name."""
 PREDICTED_SUFFIX = "_predicted"
 """A submission ``<name>_predicted`` is ``<name>`` evaluated on the perception network's predictions."""
+TRAINED_ON_PREDICTED_SUFFIX = "_predicted_trained"
+"""A submission ``<name>_predicted_trained`` is ``<name>`` trained and evaluated on the perception
+network's predictions, the paper's setting (checkpoints ``agents/checkpoints/<suite>/<name>/predicted/``)."""
 HOUSE3D_SPLITS = {
     ("house-single", "seen-goals"): 0,
     ("house-single", "unseen-goals"): 1,

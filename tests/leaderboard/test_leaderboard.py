@@ -194,3 +194,12 @@ def test_index_html_renders_the_rows_in_headless_chromium(tmp_path, oracle_resul
     assert dom.index("<td>oracle</td>") < dom.index("<td>random</td>"), "ranked by SPL"
     assert "<td>oracle</td><td>gt</td>" in dom
     assert dom.count('class="point"') == 2 and dom.count('class="bar"') == 2 * 4  # 4 unseen goals each
+
+
+def test_table3_has_a_trained_on_predictions_row_only_for_a_method_that_has_one():
+    from objsearch.leaderboard.render import render_paper_tables
+
+    splits = {"seen-goals": {"sr": 0.9, "spl": 0.4}, "unseen-goals": {"sr": 0.8, "spl": 0.3}}
+    tables = render_paper_tables([("hrl_grg_predicted_trained", {"suite": "house-single", "splits": splits})])
+    assert "| HRL-GRG | predicted, trained on it | **0.90 / 0.40** | **0.80 / 0.30** | not run | not run |" in tables
+    assert "| A3C | predicted, trained on it |" not in tables and tables.count("| A3C |") == 2
