@@ -100,7 +100,8 @@ def split_houses(split: str, count: int | None = None) -> dict[str, dict]:
     if split == "train":
         houses = sorted(suite["training_houses"].items())
     elif split == "test-seen-shapes":
-        houses = _generated(SEEN_SHAPES_SEED, DEFAULT_HOUSES[split] if count is None else min(count, 10))
+        size = DEFAULT_HOUSES[split]  # generated on demand: no more than the split has
+        houses = _generated(SEEN_SHAPES_SEED, size if count is None else min(count, size))
     else:
         prefix = {"val": "test_002", "test": "test_003"}[split]  # house-gen: val seeds 2000.., test seeds 3000..
         houses = sorted((h, info) for h, info in suite["houses"].items() if h.startswith(prefix))
