@@ -98,13 +98,13 @@ def run_dataset(args: argparse.Namespace) -> int:
     """``objsearch perception dataset``: render the frames of the dataset into ``--out``; returns 0."""
     from dataclasses import replace
 
-    from objsearch.perception.dataset import SPLITS, build_dataset
+    from objsearch.perception.dataset import DEFAULT_HOUSES, SPLITS, build_dataset
     from objsearch.sim.camera import AGENT_CAMERA
 
     check_executor_arguments(args)
     settings = AGENT_CAMERA if args.size is None else replace(AGENT_CAMERA, width=args.size, height=args.size)
     wanted = {s: getattr(args, f"{s.replace('-', '_')}_houses") for s in SPLITS}
-    limits = {s: n for s, n in wanted.items() if n is not None}
+    limits = {s: DEFAULT_HOUSES[s] if n is None else n for s, n in wanted.items()}
     manifest = build_dataset(
         args.out,
         settings=settings,

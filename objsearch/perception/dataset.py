@@ -193,7 +193,8 @@ def build_dataset(
         seed: pose sampling seed.
         poses_per_house: frames per training house.
         eval_poses_per_house: frames per validation and test house.
-        houses: split -> number of houses (default ``DEFAULT_HOUSES``; 0 leaves a split out).
+        houses: split -> number of houses; a split it does not name (or names with 0) is left
+            out (default: ``DEFAULT_HOUSES``, every split).
         progress: show a progress bar.
         executor, address, workers: where the houses' shards are rendered, one task per
             house (``objsearch.cluster.map_houses``; on a Ray cluster ``out`` must be on a
@@ -213,11 +214,15 @@ def build_dataset(
 
     settings = settings or AGENT_CAMERA
     out = Path(out)
-    houses = DEFAULT_HOUSES | (houses or {})
+    houses = DEFAULT_HOUSES if houses is None else houses
+    unknown = sorted(set(houses) - set(SPLITS))
+    if unknown:
+        raise UserError(f"unknown dataset split(s) {', '.join(unknown)}; known: {', '.join(SPLITS)}")
     plan = []
     for split in SPLITS:
         count = poses_per_house if split == "train" else eval_poses_per_house
-        plan += [(split, house_id, info, count) for house_id, info in split_houses(split, houses[split]).items()]
+        chosen = split_houses(split, houses.get(split, 0))
+        plan += [(split, house_id, info, count) for house_id, info in chosen.items()]
     if not 0.0 <= variety <= 1.0:
         raise UserError(f"variety must be between 0 and 1 (got {variety}); 0 renders the houses as they are")
     task = partial(render_shard, out=out.resolve(), settings=settings, seed=seed, variety=variety)

@@ -21,11 +21,6 @@ def tiny_dataset(tmp_path_factory):
 
     out = tmp_path_factory.mktemp("perception-data")
     build_dataset(
-        out,
-        settings=LOW_RES,
-        seed=0,
-        poses_per_house=48,
-        houses={"train": 1, "val": 0, "test": 0, "test-seen-shapes": 0},
-        progress=False,
+        out, settings=LOW_RES, seed=0, poses_per_house=48, houses={"train": 1, "val": 0, "test": 0}, progress=False
     )
     return out

@@ -81,3 +81,11 @@ def test_the_seen_shapes_split_is_unseen_houses_with_training_mesh_variants():
     assert not set(houses) & others
     with pytest.raises(UserError, match="10 houses, not 11"):
         split_houses("test-seen-shapes", 11)
+
+
+def test_a_misspelt_split_is_refused_before_anything_is_rendered(tmp_path):
+    from objsearch.perception.dataset import build_dataset
+
+    with pytest.raises(UserError, match="unknown dataset split.*tests; known: train, val, test, test-seen-shapes"):
+        build_dataset(tmp_path, houses={"train": 1, "tests": 1}, progress=False)
+    assert not any(tmp_path.iterdir())

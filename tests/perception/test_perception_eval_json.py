@@ -30,13 +30,7 @@ def micro_f1(rows):
 
 
 def test_eval_json_reports_the_issue15_metrics_beside_their_targets(tmp_path, capsys):
-    build_dataset(
-        tmp_path,
-        seed=0,
-        eval_poses_per_house=24,
-        houses={"train": 0, "val": 0, "test": 1, "test-seen-shapes": 0},
-        progress=False,
-    )
+    build_dataset(tmp_path, seed=0, eval_poses_per_house=24, houses={"train": 0, "val": 0, "test": 1}, progress=False)
     assert main(["perception", "eval", "--data", str(tmp_path), "--device", "cpu", "--json"]) == 0
     out = capsys.readouterr().out
     result = json.loads(out.strip().splitlines()[-1])

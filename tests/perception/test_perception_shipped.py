@@ -20,12 +20,6 @@ def test_shipped_checkpoint_is_the_default_and_matches_its_files():
 def test_shipped_checkpoint_on_frames_of_a_test_house(tmp_path):
     """50 fresh frames of the first test house (unseen instances): the network still segments
     the structure and gets depth about right (the full figures: docs/perception.md)."""
-    build_dataset(
-        tmp_path,
-        seed=0,
-        eval_poses_per_house=50,
-        houses={"train": 0, "val": 0, "test": 1, "test-seen-shapes": 0},
-        progress=False,
-    )
+    build_dataset(tmp_path, seed=0, eval_poses_per_house=50, houses={"train": 0, "val": 0, "test": 1}, progress=False)
     result = evaluate(Predictor.from_checkpoint(device="cpu"), load_split(tmp_path, "test"))
     assert result["pixel_accuracy"] > 0.85 and result["depth_absrel"] < 0.15, result

@@ -69,7 +69,7 @@ def test_varied_frames_keep_their_labels(world):
 
 def test_dataset_variety_changes_training_frames_only(tmp_path):
     def build(out, variety):
-        houses = {"train": 1, "val": 1, "test": 0, "test-seen-shapes": 0}
+        houses = {"train": 1, "val": 1, "test": 0}
         kw = dict(settings=LOW_RES, poses_per_house=8, eval_poses_per_house=8, houses=houses, progress=False)
         return build_dataset(tmp_path / out, variety=variety, **kw)
 

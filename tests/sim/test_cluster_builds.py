@@ -57,7 +57,7 @@ def test_perception_dataset_on_ray_is_the_local_build(local_ray, tmp_path):
         seed=0,
         poses_per_house=3,
         eval_poses_per_house=2,
-        houses={"train": 2, "val": 1, "test": 0, "test-seen-shapes": 0},
+        houses={"train": 2, "val": 1, "test": 0},
         progress=False,
     )
     manifests = {
