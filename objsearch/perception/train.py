@@ -39,7 +39,7 @@ from objsearch.perception.inference import (
     save_checkpoint,
 )
 from objsearch.perception.model import NUM_CLASSES, ModelConfig, SegDepthNet, pick_device
-from objsearch.sim.camera import RenderSettings
+from objsearch.sim.camera import RenderSettings, check_camera
 
 CONFIG_FILE, MODEL_FILE, STATE_FILE, LOG_FILE = "config.json", "model.pt", "state.pt", "log.csv"
 LOG_FIELDS = [
@@ -79,8 +79,13 @@ def start_from(model: SegDepthNet, path: str, settings: RenderSettings) -> None:
             f"init={path} is a network with other {', '.join(changed)} than this run's model; "
             "drop the --set model.* overrides that differ, or start without init"
         )
-    if checkpoint_settings(state, path) != settings:
-        raise UserError(f"init={path} was trained on frames of another camera than this dataset's; start without init")
+    check_camera(
+        checkpoint_settings(state, path),
+        settings,
+        source=f"init={path}",
+        expected_name="the camera of this run's dataset",
+        fix="start without init, or from a checkpoint trained on frames of this camera",
+    )
     model.load_state_dict(state["state_dict"])
 
 

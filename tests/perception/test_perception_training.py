@@ -93,3 +93,9 @@ def test_init_starts_a_run_from_a_checkpoints_weights_and_refuses_another_networ
     wider = dataclasses.replace(TINY_MODEL, decoder=48)
     with pytest.raises(UserError, match="init=.*decoder"):
         TrainRun(_config(tiny_dataset, init=init, model=wider), tmp_path / "c")
+    from objsearch.perception.inference import save_checkpoint
+    from objsearch.sim.camera import AGENT_CAMERA
+
+    save_checkpoint(tmp_path / "other-camera.pt", first.model, AGENT_CAMERA)  # the tiny set is rendered smaller
+    with pytest.raises(UserError, match="init=.*other-camera.pt"):
+        TrainRun(_config(tiny_dataset, init=str(tmp_path / "other-camera.pt")), tmp_path / "d")
