@@ -51,6 +51,9 @@ class AgentTask:
         rng: this episode's random Generator; the agent's only source of randomness.
         privileged: ground truth the oracle uses (an object with ``shortest_path() ->
             list[action]``). A learning agent must not read it.
+        camera: the camera's parameters where the env has one (house suites:
+            ``objsearch.sim.camera.RenderSettings.intrinsics``: image size, fields of view,
+            focal lengths, height, clipping), else None.
     """
 
     suite: str
@@ -62,6 +65,7 @@ class AgentTask:
     action_space: gymnasium.Space
     rng: np.random.Generator
     privileged: Any = field(default=None, repr=False)
+    camera: dict | None = None
 
 
 @runtime_checkable

@@ -133,6 +133,7 @@ def agent_task(
         action_space=action_space,
         rng=episode_rng(seed, split, episode.episode_id),
         privileged=episode.privileged,
+        camera=info.get("camera"),
     )
 
 

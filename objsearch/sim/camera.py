@@ -22,6 +22,7 @@ from __future__ import annotations
 
 import hashlib
 import json
+import math
 import numbers
 from dataclasses import dataclass, fields
 
@@ -98,6 +99,30 @@ class RenderSettings(JsonConfig):
             raise UserError(f"fovy={self.fovy} must be in [1, 170] degrees")
         if not 0.0 < self.znear < self.zfar:
             raise UserError(f"need 0 < znear < zfar, got znear={self.znear}, zfar={self.zfar}")
+
+    def intrinsics(self) -> dict:
+        """What an agent needs to turn a depth image into points: image size, vertical and
+        horizontal field of view (degrees), pinhole focal lengths and principal point (pixels;
+        row 0 is the top, column 0 the left), the camera's height above the floor and the
+        clipping range (metres). Depth is planar: a pixel (u, v) at depth z is the point
+        ``((u + 0.5 - cx) * z / fx, (cy - v - 0.5) * z / fy, z)`` (right, up, forward)."""
+        # rounded: tan(45 degrees) is 0.9999999999999999 in floating point
+        fy = round(self.height / 2 / math.tan(math.radians(self.fovy) / 2), 9)
+        fovx = round(math.degrees(2 * math.atan(self.width / 2 / fy)), 9)
+        return {
+            "width": self.width,
+            "height": self.height,
+            "vfov": self.fovy,
+            "hfov": fovx,
+            "fx": fy,  # square pixels
+            "fy": fy,
+            "cx": self.width / 2,
+            "cy": self.height / 2,
+            "camera_height": self.camera_height,
+            "znear": self.znear,
+            "zfar": self.zfar,
+            "depth": "planar",
+        }
 
     def key(self) -> str:
         """A short stable hash of the settings and ``RENDERER_VERSION`` (cache keys use it)."""

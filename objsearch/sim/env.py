@@ -14,7 +14,7 @@ from objsearch.house.categories import CATEGORY_IDS
 from objsearch.sim.cache import HouseCache, PredictedCache, Predictor, quantize_depth
 from objsearch.sim.camera import AGENT_CAMERA, RenderSettings, check_predictor_camera
 from objsearch.sim.goals import DEFAULT_RULE, GOAL_CAMERA, GoalRule, goal_poses
-from objsearch.sim.navgraph import ACTIONS, GRID, NUM_MOVE_ACTIONS, STOP
+from objsearch.sim.navgraph import ACTIONS, GRID, NUM_MOVE_ACTIONS, STOP, PoseGraph
 from objsearch.sim.world import HouseRef, World
 
 MODES = ("cached", "live")
@@ -24,6 +24,23 @@ NUM_CATEGORY_IDS = max(CATEGORY_IDS.values()) + 1
 # Where sampled starts are drawn: among all poses, or near the house's entrance (``draw_start``).
 STARTS = ("anywhere", "entrance")
 ENTRANCE_STEPS = 8  # "entrance" starts: at most this many steps from the entrance pose (``entrance_poses``)
+
+
+MOVES = (0, 3, 4, 5)  # the actions that translate (ahead, back, left, right); a blocked one sets ``collided``
+
+
+def relative_pose(graph: PoseGraph, start, pose) -> np.ndarray:
+    """The ``pose`` observation: float32 (..., 3) of (x forward, y left, heading) of pose ids
+    ``pose`` relative to pose ids ``start`` (metres, radians counter-clockwise in (-pi, pi])."""
+    start, pose = np.asarray(start), np.asarray(pose)
+    d = (graph.cells[pose // 4] - graph.cells[start // 4])[..., ::-1] * GRID  # (dx, dy) in the world
+    yaw = (start % 4) * (np.pi / 2)
+    c, s = np.cos(yaw), np.sin(yaw)
+    turn = (pose % 4 - start % 4) % 4
+    heading = np.where(turn == 3, -np.pi / 2, turn * (np.pi / 2))
+    return np.stack([c * d[..., 0] + s * d[..., 1], -s * d[..., 0] + c * d[..., 1], heading], axis=-1).astype(
+        np.float32
+    )
 
 
 def entrance_poses(world: World, steps: int = ENTRANCE_STEPS) -> np.ndarray:
@@ -100,8 +117,19 @@ class HouseEnv(gymnasium.Env):
     ## Observation Space
     ``Dict(rgb=Box(uint8, (H, W, 3)), depth=Box(float32, (H, W)) metres to the mm (zfar where
     nothing is hit),
-    semantic=Box(uint8, (H, W)) category ids, target=Discrete(C))`` with H, W from
-    ``settings`` (64 x 64 by default).
+    semantic=Box(uint8, (H, W)) category ids, target=Discrete(C), pose=Box(float32, (3,)),
+    collided=Discrete(2))`` with H, W from ``settings`` (64 x 64 by default). ``depth`` is
+    planar: the distance along the camera's optical axis, not along the pixel's ray.
+    ``semantic`` holds the ids of ``objsearch.house.categories.CATEGORY_IDS``, the structure
+    classes included (wall 1, floor 2, door 3, ceiling 4: every room has a ceiling), and
+    ``target`` is the target category's id in that same table. ``pose`` is the agent's
+    position and heading relative to the episode's start, as Habitat's GPS+compass gives
+    it: x metres forward and y metres to the left of the start pose, and the heading in
+    radians counter-clockwise from the start heading, in (-pi, pi]. ``collided`` is 1 when
+    the last action was a move that was blocked (the agent stayed where it was), else 0.
+    The camera's parameters (image size, horizontal and vertical field of view, focal
+    lengths, height, clipping range) are the reset ``info["camera"]``
+    (``RenderSettings.intrinsics``); the harness gives them to agents as ``task.camera``.
 
     ## Action Space
     ``Discrete(6)``: move ahead, rotate left, rotate right, move back, move left, move right
@@ -139,7 +167,9 @@ class HouseEnv(gymnasium.Env):
     ## Version History
     * v0: initial release (pose graph navgraph-v1, goal rule goals-v1); ``observation=
       "predicted"`` added later (the default ``gt`` is unchanged); ``starts="entrance"`` added
-      later (the default ``anywhere`` samples the same tasks as before).
+      later (the default ``anywhere`` samples the same tasks as before); the ``pose`` and
+      ``collided`` keys and the reset ``info["camera"]`` added later (computed from the
+      state: the other keys, caches and records are unchanged).
     """
 
     metadata = {"render_modes": ["rgb_array"], "render_fps": 4}
@@ -179,12 +209,20 @@ class HouseEnv(gymnasium.Env):
         self.targets = tuple(targets) if targets else None
         self.render_mode = render_mode
         h, w = settings.height, settings.width
+        reach = self.max_steps * GRID
         self.observation_space = spaces.Dict(
             {
                 "rgb": spaces.Box(0, 255, (h, w, 3), dtype=np.uint8),
                 "depth": spaces.Box(0.0, settings.zfar, (h, w), dtype=np.float32),
                 "semantic": spaces.Box(0, 255, (h, w), dtype=np.uint8),
                 "target": spaces.Discrete(NUM_CATEGORY_IDS),
+                # an episode cannot take the agent farther than max_steps cells from its start
+                "pose": spaces.Box(
+                    np.array([-reach, -reach, -np.pi], np.float32),
+                    np.array([reach, reach, np.pi], np.float32),
+                    dtype=np.float32,
+                ),
+                "collided": spaces.Discrete(2),
             }
         )
         self.action_space = spaces.Discrete(NUM_MOVE_ACTIONS + (1 if stop_action else 0))
@@ -305,7 +343,8 @@ class HouseEnv(gymnasium.Env):
         self._goal_mask = np.zeros(graph.num_poses, dtype=bool)
         self._goal_mask[goal_ids] = True
         self._dist = self.steps_to(world, goal_ids)
-        self._pose = graph.pose_id(*task.start)
+        self._pose = self._start_pose = graph.pose_id(*task.start)
+        self._collided = 0
         if self._dist[self._pose] != task.min_steps:
             raise ValueError(
                 f"task in {task.house} says {task.min_steps} minimal steps, the pose graph says {self._dist[self._pose]}"
@@ -314,7 +353,7 @@ class HouseEnv(gymnasium.Env):
         self._target_id = CATEGORY_IDS[task.target]
         self._attach(world)
         self._steps, self._done = 0, False
-        return self._observe(), self._info(False)
+        return self._observe(), {**self._info(False), "camera": self.settings.intrinsics()}
 
     def step(self, action):
         """Take one action; returns (observation, reward, terminated, truncated, info).
@@ -329,7 +368,8 @@ class HouseEnv(gymnasium.Env):
             raise ValueError(
                 f"invalid action {action}; expected 0..{self.action_space.n - 1} ({', '.join(ACTIONS[: self.action_space.n])})"
             )
-        self._pose = int(self._next[self._pose, action])
+        before, self._pose = self._pose, int(self._next[self._pose, action])
+        self._collided = int(self._pose == before and action in MOVES)
         self._steps += 1
         at_goal = bool(self._goal_mask[self._pose])
         success = (action == STOP and at_goal) if self.stop_action else at_goal
@@ -371,6 +411,11 @@ class HouseEnv(gymnasium.Env):
 
     def _observe(self) -> dict[str, Any]:
         source = self._source_now
+        state = {
+            "target": self._target_id,
+            "pose": relative_pose(self._world.graph, self._start_pose, self._pose),
+            "collided": self._collided,
+        }
         if self.mode == "cached":
             p = self._pose
             labels = self._labels_now
@@ -379,18 +424,13 @@ class HouseEnv(gymnasium.Env):
                 "rgb": source.rgb[p].copy(),
                 "depth": labels.depth[p].copy(),
                 "semantic": labels.semantic[p].copy(),
-                "target": self._target_id,
+                **state,
             }
         frames = source.render(self._world.graph.world_poses([self._pose]))
         semantic, depth = frames.semantic, frames.depth
         if self.observation == "predicted":
             semantic, depth = self.predictor.predict(frames.rgb)
-        return {
-            "rgb": frames.rgb[0],
-            "depth": quantize_depth(depth[0]),
-            "semantic": semantic[0],
-            "target": self._target_id,
-        }
+        return {"rgb": frames.rgb[0], "depth": quantize_depth(depth[0]), "semantic": semantic[0], **state}
 
     def _info(self, success: bool) -> dict[str, Any]:
         return {

@@ -17,7 +17,7 @@ from gymnasium.vector import AutoresetMode
 from gymnasium.vector.utils import batch_space
 
 from objsearch.house.categories import CATEGORY_IDS
-from objsearch.sim.env import HouseEnv
+from objsearch.sim.env import MOVES, HouseEnv, relative_pose
 
 
 class HouseVectorEnv(gymnasium.vector.VectorEnv):
@@ -42,6 +42,8 @@ class HouseVectorEnv(gymnasium.vector.VectorEnv):
         n = self.num_envs
         self.house = np.zeros(n, dtype=np.int64)  # index into self._houses
         self.pose = np.zeros(n, dtype=np.int64)
+        self.start_pose = np.zeros(n, dtype=np.int64)
+        self.collided = np.zeros(n, dtype=np.int64)
         self.steps = np.zeros(n, dtype=np.int64)
         self.min_steps = np.zeros(n, dtype=np.int64)
         self.target = np.zeros(n, dtype=np.int64)
@@ -50,6 +52,7 @@ class HouseVectorEnv(gymnasium.vector.VectorEnv):
         self._caches: list = []  # per house: rgb source
         self._labels: list = []  # per house: semantic and depth source (ground truth or predicted)
         self._next: list[np.ndarray] = []
+        self._graphs: list = []
         self._at_goal: list[np.ndarray] = []  # per (house, target): bool over that house's poses
         self._goal_keys: dict[tuple[str, str], int] = {}
         self._rng = np.random.default_rng()
@@ -61,6 +64,7 @@ class HouseVectorEnv(gymnasium.vector.VectorEnv):
             self._caches.append(self.env._source(world))
             self._labels.append(self.env._labels(world))
             self._next.append(world.graph.next_pose)
+            self._graphs.append(world.graph)
         return self._houses.index(house_id)
 
     def _start(self, i: int) -> None:
@@ -74,6 +78,7 @@ class HouseVectorEnv(gymnasium.vector.VectorEnv):
             self._goal_keys[key] = len(self._at_goal)
             self._at_goal.append(mask)
         self.house[i], self.pose[i] = h, graph.pose_id(*task.start)
+        self.start_pose[i], self.collided[i] = self.pose[i], 0
         self.steps[i], self.min_steps[i] = 0, task.min_steps
         self.target[i], self._goal_rows[i] = CATEGORY_IDS[task.target], self._goal_keys[key]
 
@@ -83,10 +88,13 @@ class HouseVectorEnv(gymnasium.vector.VectorEnv):
             "depth": np.empty((self.num_envs, *self.single_observation_space["depth"].shape), np.float32),
             "semantic": np.empty((self.num_envs, *self.single_observation_space["semantic"].shape), np.uint8),
             "target": self.target.copy(),
+            "pose": np.empty((self.num_envs, 3), np.float32),
+            "collided": self.collided.copy(),
         }
         for h in np.unique(self.house):
             envs = np.flatnonzero(self.house == h)
             poses, labels = self.pose[envs], self._labels[h]
+            obs["pose"][envs] = relative_pose(self._graphs[h], self.start_pose[envs], poses)
             obs["rgb"][envs], obs["depth"][envs], obs["semantic"][envs] = (
                 self._caches[h].rgb[poses],
                 labels.depth[poses],
@@ -112,7 +120,9 @@ class HouseVectorEnv(gymnasium.vector.VectorEnv):
         success = np.zeros(self.num_envs, dtype=bool)
         for h in np.unique(self.house):
             envs = np.flatnonzero(self.house == h)
-            self.pose[envs] = self._next[h][self.pose[envs], actions[envs]]
+            before = self.pose[envs]
+            self.pose[envs] = self._next[h][before, actions[envs]]
+            self.collided[envs] = (self.pose[envs] == before) & np.isin(actions[envs], MOVES)
         for row in np.unique(self._goal_rows):
             envs = np.flatnonzero(self._goal_rows == row)
             success[envs] = self._at_goal[row][self.pose[envs]]

@@ -57,9 +57,39 @@ def test_live_and_cached_observations_are_identical(env, cache_dir, small_house)
     live.close()
     assert len(cached) == len(rendered)
     for a, b in zip(cached, rendered):
-        for key in ("rgb", "depth", "semantic", "target"):
+        for key in ("rgb", "depth", "semantic", "target", "pose", "collided"):
             assert np.array_equal(a[0][key], b[0][key]), key
         assert a[1:] == b[1:]
+
+
+def test_pose_and_collided_follow_the_moves_and_the_camera_comes_with_the_reset(env):
+    """``pose`` is (x forward, y left, heading) from the start, as Habitat's GPS+compass;
+    ``collided`` says a move was blocked; ``info["camera"]`` gives the camera's parameters."""
+    task = env.sample_task(np.random.default_rng(4))
+    obs, info = env.reset(options={"task": task})
+    assert np.array_equal(obs["pose"], [0, 0, 0]) and obs["collided"] == 0
+    camera = info["camera"]
+    assert (camera["width"], camera["height"], camera["vfov"], camera["hfov"]) == (64, 64, 90.0, 90.0)
+    assert camera["fx"] == camera["fy"] == 32.0 and camera["camera_height"] == 1.0 and camera["depth"] == "planar"
+    graph = env.world(task.house).graph
+    forward = np.array([[1, 0], [0, 1], [-1, 0], [0, -1]])[task.start[2]]  # (dx, dy) of the start heading
+    left = np.array([-forward[1], forward[0]])
+    moves = collisions = 0
+    for action in np.random.default_rng(5).integers(6, size=300):
+        before = env.pose
+        obs, _, terminated, truncated, info = env.step(int(action))
+        row, col, heading = env.pose
+        d = np.array([col - task.start[1], row - task.start[0]]) * 0.25
+        expected_heading = ((heading - task.start[2] + 1) % 4 - 1) * np.pi / 2  # in (-pi, pi]
+        assert np.allclose(obs["pose"], [d @ forward, d @ left, expected_heading], atol=1e-6), (obs["pose"], env.pose)
+        blocked = action in (0, 3, 4, 5) and env.pose == before
+        assert obs["collided"] == int(blocked)
+        moves += action in (0, 3, 4, 5)
+        collisions += blocked
+        if terminated or truncated:
+            break
+    assert 0 < collisions < moves, "the walk both moved and bumped into something"
+    assert graph.num_poses > 0
 
 
 def test_oracle_path_reaches_a_goal_in_min_steps(env):

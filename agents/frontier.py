@@ -1,0 +1,397 @@
+"""A training-free reference agent for the houses: frontier exploration on a metric map.
+
+The modular ObjectNav recipe (Yamauchi's frontiers; SemExp and DWFE without the learning),
+on what every house suite gives an agent: ``depth``, ``semantic``, ``target``, the
+``pose`` sensor (x forward, y left, heading, relative to the start) and the camera's
+parameters (``task.camera``). No checkpoint, no training, CPU only.
+
+Each step, for every episode of the batch:
+
+1. **Map.** The depth image becomes points (planar depth, pinhole camera). Points between
+   ``obstacle_low`` and ``obstacle_high`` metres above the floor are obstacles: every map
+   cell (0.25 m, aligned with the pose graph's cells) whose centre lies within
+   ``block_radius`` of one is blocked. ``block_radius`` is a little below the agent's
+   radius, so a cell the agent can stand on is never blocked (checked against the true
+   floor plan in the tests). Each image column is a ray of a planar scan: the cells it
+   crosses before its nearest obstacle (and floor points) are seen free. A move that comes
+   back ``collided`` blocks that edge.
+2. **Target.** Pixels of the target's id become points, kept in 0.1 m voxels.
+3. **Approach on sight.** With target voxels in memory, every reachable pose within
+   ``approach_radius`` gets a score: the image area the voxels would cover from it
+   (each voxel ``1 / depth**2``, counted when inside the camera's frustum and not hidden by
+   a wall). Goal poses are the poses where the target fills the view, so the agent goes to
+   the nearest pose scoring at least ``approach_share`` of the best, and faces the target
+   there. This is what finds the far views that paintings and mirrors (mounted high) and
+   coffee tables and TV stands (low) need. A pose reached without ending the episode is
+   struck off; when no untried pose is left, it explores on for another instance.
+4. **Frontier exploration.** Otherwise it goes to the nearest frontier pose: a free cell
+   beside an unseen one, facing it. Path costs are the env's: one step a cell (the agent
+   can strafe), one a quarter turn.
+5. **Recovery.** With nothing to go to (no frontier reachable), or when the plan does not
+   move it for ``stuck_steps`` steps, it takes random moves from ``task.rng``.
+
+The batched form (``act_batch``) projects every slot's frame in one array pass; planning
+is per slot, on the slot's own map. Records do not depend on the batch: the agent is
+deterministic but for recovery moves, which draw from the slot's ``task.rng``.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+from scipy.sparse import csr_matrix
+from scipy.sparse.csgraph import shortest_path
+
+from objsearch.eval.agent import AgentTask
+
+CELL = 0.25  # metres: the pose graph's cell, so the agent's cells are the env's
+RADIUS = 120  # cells each side of the start: maps span 60 m
+SIZE = 2 * RADIUS + 1
+VOXEL = 0.1  # metres: target memory
+CEILING = 2.6  # metres: points higher up are the ceiling (walls are 2.7 m high)
+STEPS = np.array([[1, 0], [0, 1], [-1, 0], [0, -1]])  # (di, dj) of headings 0..3 (x forward, y left of the start)
+MOVE_OFFSET = {0: 0, 4: 1, 3: 2, 5: 3}  # action -> direction relative to the heading (ahead, left, back, right)
+ACTION_FOR_OFFSET = {v: k for k, v in MOVE_OFFSET.items()}
+DIRECTION = {(int(di), int(dj)): k for k, (di, dj) in enumerate(STEPS)}
+ROTATE_LEFT, ROTATE_RIGHT = 1, 2
+
+
+@dataclass(frozen=True)
+class FrontierConfig:
+    """The agent's settings (the defaults are what the leaderboard ran)."""
+
+    obstacle_low: float = 0.1
+    """Points higher than this above the floor (metres) are obstacles."""
+    obstacle_high: float = 1.6
+    """... and lower than this (the agent's height)."""
+    floor_high: float = 0.05
+    """Points lower than this are floor."""
+    block_radius: float = 0.18
+    """A cell is blocked when an obstacle point lies this close to its centre (metres)."""
+    max_range: float = 5.0
+    """Free space is traced this far along each image column (metres)."""
+    min_target_pixels: int = 3
+    """Fewer target pixels in a frame are ignored (noise of predicted segmentation)."""
+    approach_radius: float = 3.5
+    """Poses this close to a target voxel are scored for the approach (metres)."""
+    approach_share: float = 0.8
+    """The approach goes to the nearest untried pose scoring at least this share of the best."""
+    face_run: int = 3
+    """A path that runs this many cells in one direction turns to face it first."""
+    stuck_steps: int = 6
+    """This many steps on two poses or fewer (blocked, or turning to and fro) start a random move."""
+
+
+def turns(a, b):
+    """Quarter turns between headings ``a`` and ``b`` (0, 1 or 2)."""
+    d = (np.asarray(b) - np.asarray(a)) % 4
+    return np.minimum(d, 4 - d)
+
+
+class SlotState:
+    """One episode's memory and decisions: the map, the target voxels, the poses visited."""
+
+    def __init__(self, task: AgentTask, config: FrontierConfig):
+        self.rng, self.config = task.rng, config
+        self.angles = column_angles(task.camera)
+        self.camera = task.camera
+        self.target = -1
+        self.seen = np.zeros((SIZE, SIZE), bool)  # a ray or floor point fell in the cell
+        self.blocked = np.zeros((SIZE, SIZE), bool)  # an obstacle lies within block_radius of its centre
+        self.top = np.zeros((SIZE, SIZE), np.float32)  # the highest point seen in the cell, below the ceiling
+        self.edge = np.ones((4, SIZE, SIZE), bool)  # edge[d, i, j]: the move from (i, j) along d is not known blocked
+        self.voxels = np.zeros((0, 3), np.int32)  # target voxels (i, j, k) of VOXEL metres from the map's origin
+        self.visited: set[tuple[int, int, int]] = set()  # poses stood on: none of them is a goal
+        self.lo = np.array([RADIUS, RADIUS])  # bounding box of the mapped cells, inclusive
+        self.hi = np.array([RADIUS, RADIUS])
+        self.scores = np.full((SIZE, SIZE, 4), np.nan, np.float32)  # view_scores of cells, computed as needed
+        self.scored_voxels = 0  # the voxel count the scores were computed for
+        self.last = None  # (cell, heading, action) of the previous step
+        self.recent: list[tuple[int, int, int]] = []  # the last ``stuck_steps`` poses
+        self.goal = None  # the pose (map coordinates) it is heading for: kept while it stays a candidate
+
+    # -- memory ---------------------------------------------------------------------------
+    def observe_move(self, cell, heading: int, collided: int) -> None:
+        """Block the edge of a move that came back ``collided``; remember the recent poses."""
+        pose = (int(cell[0]), int(cell[1]), int(heading))
+        self.visited.add(pose)
+        self.recent = [*self.recent[-self.config.stuck_steps + 1 :], pose]
+        if self.last is None:
+            return
+        last_cell, last_heading, action = self.last
+        if collided and action in MOVE_OFFSET:
+            d = (last_heading + MOVE_OFFSET[action]) % 4
+            self.edge[d, last_cell[0], last_cell[1]] = False
+            self.edge[(d + 2) % 4, last_cell[0] + STEPS[d][0], last_cell[1] + STEPS[d][1]] = False
+
+    def update_map(self, cell, heading: int, p: dict, semantic: np.ndarray) -> None:
+        """Add one frame's points (``project``) to the map and the target voxels."""
+        cfg = self.config
+        x, y, height, rng, valid = p["x"], p["y"], p["height"], p["range"], p["valid"]
+        obstacle = valid & (height > cfg.obstacle_low) & (height < cfg.obstacle_high)
+        floor = valid & (height < cfg.floor_high)
+        ox, oy = x[obstacle], y[obstacle]
+        r2 = (cfg.block_radius / CELL) ** 2
+        for di in (-1, 0, 1):
+            for dj in (-1, 0, 1):
+                ci, cj = np.rint(ox).astype(int) + di, np.rint(oy).astype(int) + dj
+                near = (ci - ox) ** 2 + (cj - oy) ** 2 < r2
+                self.blocked[ci[near], cj[near]] = True
+        solid = valid & (height > cfg.obstacle_low) & (height < CEILING)
+        np.maximum.at(self.top, (np.rint(x[solid]).astype(int), np.rint(y[solid]).astype(int)), height[solid])
+        # free space: along each column's ray up to its nearest obstacle, and every floor point
+        reach = np.where(obstacle, rng, np.inf).min(axis=0) - 0.5 * CELL
+        seen_floor = np.where(floor, rng, 0.0).max(axis=0)
+        reach = np.minimum(reach, np.minimum(np.maximum(seen_floor, 1.0), cfg.max_range))
+        t = np.arange(0.0, cfg.max_range, CELL / 2)
+        along = t[None, :] <= reach[:, None]
+        ray = heading * (np.pi / 2) + self.angles
+        fi = np.rint(cell[0] + t[None, :] * np.cos(ray)[:, None] / CELL)[along]
+        fj = np.rint(cell[1] + t[None, :] * np.sin(ray)[:, None] / CELL)[along]
+        fi = np.concatenate([fi, np.rint(x[floor]), [cell[0]]]).astype(int)
+        fj = np.concatenate([fj, np.rint(y[floor]), [cell[1]]]).astype(int)
+        self.seen[fi, fj] = True
+        self.blocked[cell[0], cell[1]] = False  # it stands here
+        self.lo = np.minimum(self.lo, [fi.min(), fj.min()])
+        self.hi = np.maximum(self.hi, [fi.max(), fj.max()])
+        hits = valid & (semantic == self.target)
+        if hits.sum() >= cfg.min_target_pixels:
+            vox = np.floor(np.stack([x[hits] * (CELL / VOXEL), y[hits] * (CELL / VOXEL), height[hits] / VOXEL], 1))
+            self.voxels = np.unique(np.concatenate([self.voxels, vox.astype(np.int32)]), axis=0)
+
+    # -- decisions ------------------------------------------------------------------------
+    def decide(self, cell, heading: int, camera: dict) -> int:
+        """The next action: towards the best view of the target if one is known, else the
+        nearest frontier, else a random move."""
+        lo = np.maximum(self.lo - 2, 0)
+        hi = np.minimum(self.hi + 3, SIZE)
+        box = (slice(lo[0], hi[0]), slice(lo[1], hi[1]))
+        free = self.seen[box] & ~self.blocked[box]
+        here = (int(cell[0] - lo[0]), int(cell[1] - lo[1]))
+        free[here] = True
+        dist, pred = bfs(free, self.edge[:, box[0], box[1]], here)
+        goal = self._approach(dist, lo, heading, self.config.approach_share) if len(self.voxels) else None
+        if goal is None:
+            goal = self._frontier(free, dist, lo, heading)
+        if goal is None and len(self.voxels):
+            goal = self._approach(dist, lo, heading, 0.0)
+        stuck = len(self.recent) == self.config.stuck_steps and len(set(self.recent)) <= 2
+        if goal is None or stuck:
+            self.recent = []
+            action = int(self.rng.integers(6))
+        else:
+            action = self._first_action(goal, here, heading, pred)
+        self.last = ((int(cell[0]), int(cell[1])), int(heading), action)
+        return action
+
+    def _first_action(self, goal, here, heading: int, pred: np.ndarray) -> int:
+        """The first action of a cheapest path to ``goal`` ((cell, heading), box coordinates):
+        a move, or a turn towards the goal's heading once there. A path that runs
+        ``face_run`` cells or more along one direction first turns to face it, so the camera
+        sees where the agent goes."""
+        (gi, gj), gh = goal
+        if (gi, gj) == here:
+            return ROTATE_RIGHT if (gh - heading) % 4 == 3 else ROTATE_LEFT
+        path = []  # directions, last step first
+        w = pred.shape[1]
+        step = gi * w + gj
+        while step != here[0] * w + here[1]:
+            before = int(pred.flat[step])
+            path.append(DIRECTION[(step // w - before // w, step % w - before % w)])
+            step = before
+        k = path[-1]
+        run = next((n for n, d in enumerate(reversed(path)) if d != k), len(path))
+        if k != heading and run >= self.config.face_run:
+            return ROTATE_RIGHT if (k - heading) % 4 == 3 else ROTATE_LEFT
+        return ACTION_FOR_OFFSET[(k - heading) % 4]
+
+    def _best(self, cells: np.ndarray, headings: np.ndarray, cost: np.ndarray, lo) -> tuple | None:
+        """The cheapest of these poses (box coordinates) not yet visited, or None."""
+        keep = np.array(
+            [(int(i + lo[0]), int(j + lo[1]), int(h)) not in self.visited for (i, j), h in zip(cells, headings)], bool
+        )
+        if not keep.any():
+            return None
+        if self.goal is not None:  # keep going where it was going while that is still a candidate
+            mine = (cells[:, 0] + lo[0] == self.goal[0][0]) & (cells[:, 1] + lo[1] == self.goal[0][1])
+            mine &= (headings == self.goal[1]) & keep
+            if mine.any():
+                return (int(cells[mine][0][0]), int(cells[mine][0][1])), int(self.goal[1])
+        order = np.lexsort((headings[keep], cells[keep][:, 1], cells[keep][:, 0], cost[keep]))
+        n = order[0]
+        (i, j), h = cells[keep][n], int(headings[keep][n])
+        self.goal = (int(i + lo[0]), int(j + lo[1])), h
+        return (int(i), int(j)), h
+
+    def _frontier(self, free, dist, lo, heading: int):
+        """The nearest frontier pose: a reachable free cell facing an unseen, unblocked one."""
+        unknown = ~self.seen[lo[0] : lo[0] + free.shape[0], lo[1] : lo[1] + free.shape[1]]
+        unknown &= ~self.blocked[lo[0] : lo[0] + free.shape[0], lo[1] : lo[1] + free.shape[1]]
+        h, w = free.shape
+        cells, headings = [], []
+        for k, (di, dj) in enumerate(STEPS):
+            beside = np.zeros((h, w), bool)  # the neighbour along k is unknown
+            beside[max(-di, 0) : h + min(-di, 0), max(-dj, 0) : w + min(-dj, 0)] = unknown[
+                max(di, 0) : h + min(di, 0), max(dj, 0) : w + min(dj, 0)
+            ]
+            ij = np.argwhere(beside & (dist >= 0))
+            cells.append(ij)
+            headings.append(np.full(len(ij), k))
+        cells, headings = np.concatenate(cells), np.concatenate(headings)
+        if not len(cells):
+            return None
+        return self._best(cells, headings, dist[cells[:, 0], cells[:, 1]] + turns(heading, headings), lo)
+
+    def _approach(self, dist, lo, heading: int, share: float):
+        """The cheapest unvisited pose whose view of the target voxels scores at least ``share``
+        of the best reachable pose's (``view_scores``)."""
+        cfg = self.config
+        reach = np.argwhere(dist >= 0)
+        centres = (reach + lo) * CELL  # metres from the map's origin
+        stride = max(1, len(self.voxels) // 200)
+        vox = self.voxels[::stride]
+        columns = np.unique(np.rint((vox[:, :2] + 0.5) * (VOXEL / CELL)), axis=0) * CELL
+        near = ((centres[:, None, :] - columns[None, :, :]) ** 2).sum(-1).min(1) <= cfg.approach_radius**2
+        if not near.any():
+            return None
+        cand = reach[near] + lo  # map coordinates
+        if len(self.voxels) > 1.1 * self.scored_voxels:  # the target has grown: score afresh
+            self.scores[:] = np.nan
+            self.scored_voxels = len(self.voxels)
+        todo = np.isnan(self.scores[cand[:, 0], cand[:, 1], 0])
+        if todo.any():
+            self.scores[cand[todo, 0], cand[todo, 1]] = stride * view_scores(cand[todo], vox, self.top, self.camera)
+        score = self.scores[cand[:, 0], cand[:, 1]]  # (C, 4)
+        cand = cand - lo
+        best = score.max()
+        if best <= 0:
+            return None
+        ci, hi = np.nonzero(score >= max(share * best, 1e-9))
+        cells = cand[ci]
+        return self._best(cells, hi, dist[cells[:, 0], cells[:, 1]] + turns(heading, hi), lo)
+
+
+def view_scores(cells: np.ndarray, voxels: np.ndarray, top: np.ndarray, camera: dict) -> np.ndarray:
+    """How much of the image the target voxels would fill from each of ``cells`` (map
+    indices) facing each heading: the sum of ``1 / depth**2`` over the voxels inside the
+    camera's frustum and in line of sight, shape (C, 4). A voxel is out of sight when a cell
+    on the way (other than the target's own) holds a point higher than the ray from the
+    camera to it (``top``: the highest point seen in each cell)."""
+    centre = cells * CELL  # (C, 2) metres
+    v = (voxels + 0.5) * VOXEL  # (V, 3)
+    rel = v[None, :, :2] - centre[:, None, :]  # (C, V, 2)
+    up = v[None, :, 2] - camera["camera_height"]  # (1, V)
+    tan_h = camera["cx"] / camera["fx"]
+    tan_v = camera["cy"] / camera["fy"]
+    own = np.zeros(top.shape, bool)
+    own[tuple(np.rint(v[:, :2] / CELL).astype(int).T)] = True
+    t = np.linspace(0.1, 0.9, 8)[None, None, :]
+    si = np.rint((centre[:, None, None, :] + t[..., None] * rel[:, :, None, :]) / CELL).astype(int)  # (C, V, T, 2)
+    ray = camera["camera_height"] + t * up[..., None]  # (1, V, T)
+    hidden = (top[si[..., 0], si[..., 1]] > ray + 0.05) & ~own[si[..., 0], si[..., 1]]
+    sight = ~hidden.any(-1)  # (C, V)
+    out = np.zeros((len(cells), 4))
+    for k, (di, dj) in enumerate(STEPS):
+        fwd = rel[..., 0] * di + rel[..., 1] * dj
+        left = -rel[..., 0] * dj + rel[..., 1] * di
+        inside = (fwd > 0.1) & (np.abs(left) <= fwd * tan_h) & (np.abs(up) <= fwd * tan_v) & sight
+        out[:, k] = np.where(inside, 1.0 / np.maximum(fwd, 0.2) ** 2, 0.0).sum(1)
+    return out
+
+
+class FrontierAgent:
+    """Frontier exploration with approach on sight (``objsearch-eval --agent frontier``)."""
+
+    config = FrontierConfig()
+
+    @classmethod
+    def worlds(cls) -> tuple[str, ...]:
+        return ("house",)
+
+    # the single-episode form is the batched one with one slot
+    def reset(self, task: AgentTask) -> None:
+        self.start_batch(1)
+        self.reset_batch({0: task})
+
+    def act(self, observation) -> int:
+        return self.act_batch({0: observation})[0]
+
+    def start_batch(self, num_slots: int) -> None:
+        self._slots: list[SlotState | None] = [None] * num_slots
+        self._camera = None
+
+    def reset_batch(self, tasks: dict) -> None:
+        for i, task in tasks.items():
+            if task.camera is None:
+                raise ValueError(f"suite {task.suite!r} gives no camera parameters; the frontier agent needs them")
+            self._camera = task.camera
+            self._slots[i] = SlotState(task, self.config)
+
+    def act_batch(self, observations: dict) -> dict:
+        slots = list(observations)
+        obs = [observations[i] for i in slots]
+        pose = np.stack([np.asarray(o["pose"], np.float64) for o in obs])
+        cell = RADIUS + np.rint(pose[:, :2] / CELL).astype(int)
+        heading = np.rint(pose[:, 2] / (np.pi / 2)).astype(int) % 4
+        points = project(np.stack([o["depth"] for o in obs]), pose, self._camera)
+        actions = {}
+        for n, i in enumerate(slots):
+            state = self._slots[i]
+            state.target = int(obs[n]["target"])
+            state.observe_move(cell[n], heading[n], int(obs[n]["collided"]))
+            state.update_map(cell[n], heading[n], {k: v[n] for k, v in points.items()}, np.asarray(obs[n]["semantic"]))
+            actions[i] = state.decide(cell[n], heading[n], self._camera)
+        return actions
+
+
+def project(depth: np.ndarray, pose: np.ndarray, camera: dict) -> dict:
+    """Every pixel of N frames (``depth`` (N, H, W), planar metres) seen from ``pose`` (N, 3)
+    as map coordinates: ``x``, ``y`` in cells (fractional, the map's origin at index 0),
+    ``height`` above the floor and ``range`` along the column's horizontal ray (metres), and
+    ``valid`` (something was hit)."""
+    n, h, w = depth.shape
+    u = (np.arange(w) + 0.5 - camera["cx"]) / camera["fx"]  # right per metre of depth
+    v = (camera["cy"] - np.arange(h) - 0.5) / camera["fy"]  # up per metre of depth
+    z = depth.astype(np.float64)
+    left = -u[None, None, :] * z
+    yaw = pose[:, 2][:, None, None]
+    c, s = np.cos(yaw), np.sin(yaw)
+    return {
+        "x": (pose[:, 0][:, None, None] + c * z - s * left) / CELL + RADIUS,
+        "y": (pose[:, 1][:, None, None] + s * z + c * left) / CELL + RADIUS,
+        "height": camera["camera_height"] + v[None, :, None] * z,
+        "range": z * np.sqrt(1 + u**2)[None, None, :],
+        "valid": z < camera["zfar"] * 0.999,
+    }
+
+
+def column_angles(camera: dict) -> np.ndarray:
+    """Each image column's ray, radians to the left of the heading."""
+    u = (np.arange(camera["width"]) + 0.5 - camera["cx"]) / camera["fx"]
+    return -np.arctan(u)
+
+
+def bfs(free: np.ndarray, edge: np.ndarray, start) -> tuple[np.ndarray, np.ndarray]:
+    """Steps from ``start`` to every cell over free cells and open edges (-1: unreached), and
+    each cell's predecessor on a shortest path (flat index; -9999 at the start and where
+    unreached)."""
+    h, w = free.shape
+    index = np.arange(h * w).reshape(h, w)
+    rows, cols = [], []
+    for k, (di, dj) in enumerate(STEPS):
+        src = (
+            slice(max(-di, 0), h + min(-di, 0)),
+            slice(max(-dj, 0), w + min(-dj, 0)),
+        )  # cells with the neighbour inside
+        dst = slice(max(di, 0), h + min(di, 0)), slice(max(dj, 0), w + min(dj, 0))  # ... and those neighbours
+        ok = free[src] & edge[k][src] & free[dst]
+        rows.append(index[src][ok])
+        cols.append(index[dst][ok])
+    rows, cols = np.concatenate(rows), np.concatenate(cols)
+    graph = csr_matrix((np.ones(len(rows)), (rows, cols)), shape=(h * w, h * w))
+    dist, pred = shortest_path(
+        graph, method="D", unweighted=True, indices=start[0] * w + start[1], return_predecessors=True
+    )
+    dist = np.where(np.isinf(dist), -1, dist).astype(np.int32).reshape(h, w)
+    return dist, pred.reshape(h, w)

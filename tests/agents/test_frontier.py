@@ -1,0 +1,99 @@
+"""The training-free ``frontier`` agent: its map against the true floor plan, success well
+above random, records that do not depend on the batch, and the worlds it refuses."""
+
+import numpy as np
+
+from objsearch.eval.episode import run_episode
+from objsearch.eval.suites.house import HouseSuite
+from objsearch.sim.env import HouseEnv
+from objsearch.sim.navgraph import HEADING_VECTORS
+from objsearch.sim.world import HouseRef
+from objsearch_agents.frontier import RADIUS, FrontierAgent
+from objsearch_agents.random_agent import RandomAgent
+
+SMALL = HouseRef(seed=3)  # ~1700 poses
+
+
+def test_the_map_never_blocks_a_cell_the_agent_can_stand_on(cache_dir):
+    """Every cell the agent's map marks blocked is blocked in the true pose graph, after a
+    long walk of a small house (the agent explores it all: the target never ends it)."""
+    env = HouseEnv([SMALL], mode="cached", cache_dir=cache_dir, max_steps=250)
+    rng = np.random.default_rng(0)
+    task = env.sample_task(rng)
+    graph = env.world(task.house).graph
+    for seed in range(3):
+        obs, info = env.reset(options={"task": task})
+        agent = FrontierAgent()
+        agent.reset(_task(info, seed))
+        obs["target"] = 255  # an id no pixel has: explore, never approach
+        for _ in range(250):
+            obs, _, terminated, truncated, _ = env.step(agent.act(obs))
+            obs["target"] = 255
+            if terminated or truncated:
+                break
+        state = agent._slots[0]
+        forward, left = HEADING_VECTORS[task.start[2]], HEADING_VECTORS[(task.start[2] + 1) % 4]
+        blocked = np.argwhere(state.blocked) - RADIUS
+        dx = blocked[:, 0:1] * forward[0] + blocked[:, 1:2] * left[0]
+        dy = blocked[:, 0:1] * forward[1] + blocked[:, 1:2] * left[1]
+        rows, cols = task.start[0] + dy[:, 0], task.start[1] + dx[:, 0]
+        inside = (rows >= 0) & (rows < graph.rows) & (cols >= 0) & (cols < graph.cols)
+        wrong = graph.cell_index[rows[inside], cols[inside]] >= 0
+        assert inside.sum() > 50, "the walk mapped obstacles"
+        assert not wrong.any(), f"free cells marked blocked: {list(zip(rows[inside][wrong], cols[inside][wrong]))}"
+        seen = np.argwhere(state.seen & ~state.blocked)
+        assert len(seen) > 0.5 * len(graph.cells), "the walk explored most of the house"
+        task = env.sample_task(rng)
+    env.close()
+
+
+def _task(info, seed):
+    from objsearch.eval.agent import AgentTask
+
+    return AgentTask(
+        suite="t", split="t", episode_id=0, goal=0, goal_name="t", observation_space=None, action_space=None,
+        rng=np.random.default_rng(seed), camera=info["camera"],
+    )  # fmt: skip
+
+
+def test_frontier_finds_targets_far_more_often_than_random(cache_dir):
+    suite = HouseSuite("house-single", cache_dir=cache_dir, max_steps=150)
+    env = suite.make_env()
+    episodes = suite.episodes("unseen-goals")[:16]
+    sr = {}
+    for name, agent in (("frontier", FrontierAgent()), ("random", RandomAgent())):
+        records = [run_episode(agent, env, suite.name, "unseen-goals", e, 1) for e in episodes]
+        assert not any("error" in r for r in records)
+        sr[name] = np.mean([r["success"] for r in records])
+    assert sr["frontier"] >= 0.8 and sr["random"] <= 0.25, sr
+
+
+def test_batched_records_equal_the_sequential_ones(cache_dir):
+    from objsearch.eval.runner import EvalConfig, evaluate
+
+    config = EvalConfig(
+        agent="frontier",
+        suite="house-single",
+        splits=("seen-goals",),
+        seeds=(1,),
+        suite_config={"mode": "cached", "cache_dir": cache_dir, "max_steps": 40},
+    )
+    one = evaluate(config, progress=False, batch=1)
+    many = evaluate(config, progress=False, batch=16)
+    assert many["episodes"] == one["episodes"]
+    assert 0 < sum(r["success"] for r in one["episodes"]) < 100 and not any("error" in r for r in one["episodes"])
+
+
+def test_frontier_on_the_grid_world_is_refused_in_one_line(tmp_path):
+    import subprocess
+    import sys
+    from pathlib import Path
+
+    out = subprocess.run(
+        [str(Path(sys.executable).parent / "objsearch-eval"), "--agent", "frontier", "--suite", "gridworld"],
+        capture_output=True,
+        text=True,
+        timeout=120,
+    )
+    assert out.returncode == 2 and "Traceback" not in out.stderr
+    assert len(out.stderr.strip().splitlines()) == 1 and "frontier" in out.stderr and "house" in out.stderr, out.stderr
