@@ -13,6 +13,7 @@ Q-learning levels take a random choice with probability ``eps_end`` (0.1).
 from __future__ import annotations
 
 import os
+import sys
 from pathlib import Path
 
 import numpy as np
@@ -27,9 +28,30 @@ from objsearch_agents.rows import RowRandom
 CHECKPOINTS = Path(__file__).resolve().parent.parent / "checkpoints"
 
 
+# generator version -> the suite whose checkpoints were trained for unseen houses of that generator
+# (its training houses, evaluated on other houses of the generator)
+GENERALISATION_SUITES = {"house-gen-1": "house-gen", "house-gen-2": "house-gen-v2"}
+
+
 def default_checkpoint(suite: str, name: str) -> Path | None:
     path = CHECKPOINTS / suite / name / POLICY_FILE
     return path if path.exists() else None
+
+
+def suite_generator(suite: str) -> str | None:
+    """The one generator version of a suite's evaluation houses (None if they mix several)."""
+    from objsearch.sim.suites import load_suite_file, suite_generators
+
+    generators = suite_generators(load_suite_file(suite))
+    return generators.pop() if len(generators) == 1 else None
+
+
+def generalisation_checkpoint(suite: str, name: str) -> tuple[Path | None, str | None]:
+    """For a suite with no checkpoint of its own (a user's suite file): the shipped checkpoint
+    trained for unseen houses of the suite's generator, and that generator."""
+    generator = suite_generator(suite)
+    trained_on = GENERALISATION_SUITES.get(generator)
+    return (default_checkpoint(trained_on, name) if trained_on else None), generator
 
 
 class HouseAgent:
@@ -47,13 +69,21 @@ class HouseAgent:
         torch.set_num_threads(1)  # batch-1 forwards of small networks: extra threads only contend
         self.suite = suite
         self.loaded_from: str | None = None
-        path = checkpoint if checkpoint is not None else default_checkpoint(suite, self.config.name)
+        name = self.config.name
+        path = checkpoint if checkpoint is not None else default_checkpoint(suite, name)
         if path is None:
-            name = self.config.name
-            raise UserError(
-                f"no {name} checkpoint is shipped for suite {suite!r}; train one with "
-                f"`objsearch train --agent {name} --suite {suite}` and pass "
-                f"--checkpoint runs/{suite}/{name}-seed0"
+            path, generator = generalisation_checkpoint(suite, name)
+            if path is None:
+                run = f"runs/{Path(suite).stem}/{name}-seed0"
+                raise UserError(
+                    f"no {name} checkpoint is shipped for suite {suite} (houses of generator {generator or 'several'}: "
+                    f"checkpoints for unseen houses exist for {', '.join(GENERALISATION_SUITES)}); train one with "
+                    f"`objsearch train --agent {name} --suite {suite} --out {run}` and pass --checkpoint {run}"
+                )
+            print(
+                f"{name}: suite {suite} has houses of generator {generator}; using the checkpoint trained on "
+                f"{GENERALISATION_SUITES[generator]}'s training houses for unseen ones ({path})",
+                file=sys.stderr,
             )
         self.load(path)
 
@@ -71,15 +101,36 @@ class HouseAgent:
         self.trained_perception_key = self.policy.perception_key
 
     def _check_trained_for(self, saved: HouseAgentConfig, path: Path) -> None:
-        """Refuse a checkpoint trained as another agent or on another suite than this one's."""
+        """Refuse a checkpoint trained as another agent, or on another suite than this one's
+        unless it was trained for unseen houses of this suite's generator (``GENERALISATION_SUITES``);
+        warn when this suite holds houses that checkpoint trained on. (The camera, and the
+        perception network of predicted observations, are checked where they are paired.)"""
         if saved.name != self.config.name:
             raise UserError(
                 f"checkpoint {path} was trained as {saved.name}, not {self.config.name}; pick --agent {saved.name}"
             )
-        if saved.suite != self.suite:
+        if saved.suite == self.suite:
+            return
+        generator = suite_generator(self.suite)
+        if GENERALISATION_SUITES.get(generator) != saved.suite:
+            made_for = next((g for g, s in GENERALISATION_SUITES.items() if s == saved.suite), None)
+            what = f"for unseen houses of generator {made_for}" if made_for else "for that suite's houses only"
             raise UserError(
-                f"checkpoint {path} was trained on suite {saved.suite}, not {self.suite}; "
-                f"evaluate it with --suite {saved.suite} or pass a checkpoint trained on {self.suite}"
+                f"checkpoint {path} was trained on suite {saved.suite} ({what}), but suite {self.suite} has houses of "
+                f"generator {generator or 'several'}; pass a checkpoint trained on {self.suite} or for its generator "
+                f"({GENERALISATION_SUITES.get(generator, 'none is shipped')})"
+            )
+        from objsearch.sim.suites import load_suite_file
+
+        trained = {info.get("spec_sha256") for info in load_suite_file(saved.suite)["training_houses"].values()}
+        seen = sorted(
+            h for h, info in load_suite_file(self.suite)["houses"].items() if info.get("spec_sha256") in trained
+        )
+        if seen:
+            print(
+                f"warning: {len(seen)} house(s) of suite {self.suite} ({', '.join(seen[:3])}{', ...' if len(seen) > 3 else ''}) "
+                f"are training houses of {path}: results on them are not held out",
+                file=sys.stderr,
             )
 
     # -- the protocol (one episode, or N in lockstep: the same code) -------------------------

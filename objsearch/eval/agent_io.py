@@ -100,8 +100,48 @@ def render() -> str:
         f"`--observation gt` (the default): `semantic` and `depth` are rendered ground truth. "
         f"`--observation predicted`: the same keys and spaces. {_predicted_sentence()}",
         "",
+        *_house_rules(house),
     ]
     return "\n".join(lines).strip("\n")
+
+
+def _house_rules(env) -> list[str]:
+    """The rules of the house task, from the constants that define them."""
+    from objsearch.house.categories import CATEGORY_IDS, CATEGORY_TABLE_VERSION
+    from objsearch.house.occupancy import AGENT_HEIGHT, AGENT_RADIUS
+    from objsearch.sim.goals import DEFAULT_RULE, GOAL_CAMERA
+    from objsearch.sim.navgraph import GRID
+
+    camera = env.settings.intrinsics()
+    ids = ", ".join(f"{i} {name}" for name, i in sorted(CATEGORY_IDS.items(), key=lambda kv: kv[1]))
+    return [
+        "#### The rules of the house task",
+        "",
+        f"- **The agent** is a cylinder of radius {AGENT_RADIUS} m and height {AGENT_HEIGHT} m on a grid of "
+        f"{GRID} m cells with 4 headings: a move goes one cell (ahead, back, left or right, without turning), "
+        "a turn 90 degrees. A move that is blocked (a wall or an object within the agent's radius anywhere on "
+        "the way) leaves the agent where it was and counts as a step; `collided` says so.",
+        f"- **The camera** is {camera['width']} x {camera['height']} pixels, {camera['hfov']:g} x "
+        f"{camera['vfov']:g} degrees (horizontal x vertical), {camera['camera_height']:g} m above the floor, "
+        f"looking level; `depth` is planar (along the optical axis), clipped to {camera['znear']:g}-"
+        f"{camera['zfar']:g} m. `task.camera` holds these parameters (`RenderSettings.intrinsics`): "
+        "the pixel (u, v) at depth z is the point ((u + 0.5 - cx) z / fx, (cy - v - 0.5) z / fy, z) "
+        "(right, up, forward).",
+        f"- **Success** (every shipped suite, the paper's rule `{DEFAULT_RULE.kind}`): the episode ends, "
+        "successfully, when the agent stands on a goal pose of the target category. The goal poses are the "
+        f"poses of the whole house whose view (through the goal camera, {GOAL_CAMERA.width} x "
+        f"{GOAL_CAMERA.height}, {GOAL_CAMERA.fovy:g} degrees, {GOAL_CAMERA.camera_height:g} m high) shows the "
+        f"most pixels of the category: every pose with at least the {DEFAULT_RULE.top_k}th largest area, ties "
+        "included, over every object of the category. So the nearest chair may not hold a goal pose, and a "
+        "painting mounted high or a coffee table is filled into the view from farther away than one step. "
+        "There is no STOP action: the episode ends by itself.",
+        f"- **The step limit** is the suite's `max_steps` (each suite file records its own; `house-single`: {env.max_steps}); "
+        "SPL counts every action, turns and blocked moves included, against the minimal number of actions.",
+        f"- **`target` and `semantic`** use the ids of the category table {CATEGORY_TABLE_VERSION} "
+        "(`objsearch generate` writes it as `categories.json`); the structure classes are drawn and labelled "
+        f"in every frame, the ceiling too: {ids}.",
+        "",
+    ]
 
 
 def doc_section(text: str) -> str:

@@ -5,8 +5,9 @@ segmentation masks, perception models learn them, results quote them. Adding a c
 appends a new id and bumps the version; renaming or reordering is not allowed.
 
 Id 0 is background (no geom hit). Ids 1-7 are structure classes (wall, floor, door,
-ceiling; ceiling is reserved, houses are generated without one so that a top-down camera
-sees in). Object categories start at ``FIRST_OBJECT_ID``.
+ceiling; 5-7 unused). The house models have no ceiling geom, so that a top-down camera sees
+in; the agent's renderer closes every room with one (``RenderSettings.ceiling``), so ceiling
+pixels are drawn and labelled 4 in every agent frame. Object categories start at ``FIRST_OBJECT_ID``.
 
 Every object category carries its placement rule and priors:
 

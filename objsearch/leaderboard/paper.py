@@ -31,6 +31,7 @@ PAPER_NAMES = {
     "hrl_grg_no_relation": "HRL-GRG -relation",
     "hrl_grg_no_termination": "HRL-GRG -termination",
     "hrl_grg_no_high_level": "HRL-GRG -high-level",
+    "frontier": "Frontier (not in the paper)",
 }
 GRIDWORLD_TABLES = {
     "Table 1: methods": ("random", "oracle", "dqn", "hdqn", "hrl_grg"),
@@ -59,8 +60,9 @@ _HOUSE3D = {
     "h-DQN": ((0.77, 0.15), (0.05, 0.00), (0.43, 0.05), (0.28, 0.02)),
     "HRL-GRG": ((0.88, 0.33), (0.79, 0.21), (0.76, 0.20), (0.62, 0.10)),
 }
-HOUSE3D_TABLE = ("random", "dqn", "a3c", "hdqn", "hrl_grg")
-"""The rows of the paper's Table 3 (its "Hrl" is our ``hdqn``), by submission name."""
+HOUSE3D_TABLE = ("random", "dqn", "a3c", "hdqn", "hrl_grg", "frontier")
+"""The rows of the paper's Table 3 (its "Hrl" is our ``hdqn``), by submission name, and
+``frontier``, the training-free reference agent, a row the paper did not have."""
 PREDICTED_SUFFIX = "_predicted"
 """A submission ``<name>_predicted`` is ``<name>`` evaluated on the perception network's predictions."""
 TRAINED_ON_PREDICTED_SUFFIX = "_predicted_trained"

@@ -210,7 +210,7 @@ def _table3(submissions: list[tuple[str, dict]]) -> list[str]:
                     mine
                     + (
                         f" ({_num(paper[(suite, split)][0])} / {_num(paper[(suite, split)][1])})"
-                        if seen == "gt"
+                        if seen == "gt" and paper is not None
                         else ""
                     )
                 )

@@ -162,6 +162,24 @@ def episode_task(suite: dict, item: dict) -> HouseTask:
     )
 
 
+def house_generator(info: dict) -> str:
+    """The generator version of one house entry of a suite file: recorded for generated
+    houses (absent: ``house-gen-1``), read from ``spec.json`` for a house folder."""
+    if "path" not in info:
+        return info.get("generator") or "house-gen-1"
+    try:
+        return json.loads((Path(info["path"]) / "spec.json").read_text()).get("generator_version") or "house-gen-1"
+    except (OSError, ValueError, AttributeError):
+        raise UserError(
+            f"house folder {info['path']}: no readable spec.json; restore it, or remake the suite with objsearch suite make"
+        ) from None
+
+
+def suite_generators(suite: dict) -> set[str]:
+    """The generator versions of a suite's evaluation houses."""
+    return {house_generator(info) for info in suite["houses"].values()}
+
+
 def training_houses(suite: dict) -> list[HouseRef]:
     """The houses agents train on: ``house-single``'s house, ``house-multi``'s seen
     environments, ``house-gen``'s training houses (never an evaluation-only house)."""

@@ -254,3 +254,22 @@ def test_suite_make_draws_starts_near_the_entrance(made, cache_dir, tmp_path):
         "--cache-dir", cache_dir, "--out", "r.json", cwd=tmp_path,
     )  # fmt: skip
     assert out.returncode == 0, out.stderr
+
+
+def test_shipped_agents_run_on_your_suite_with_the_checkpoint_of_its_generator(made, cache_dir, tmp_path):
+    """No --checkpoint: the checkpoint trained for unseen houses of the suite's generator is
+    picked and named; one made for another generator is refused in one line."""
+    out = run(
+        "objsearch-eval", "--agent", "a3c", "--suite", "my-suite.json", "--seeds", "1", "--cache-dir", cache_dir,
+        "--out", str(tmp_path / "a3c.json"), "--quiet", cwd=made,
+    )  # fmt: skip
+    assert out.returncode == 0, out.stderr
+    assert "houses of generator house-gen-1; using the checkpoint trained on house-gen's training houses" in out.stderr
+    results = json.loads((tmp_path / "a3c.json").read_text())
+    assert results["splits"]["my-suite"]["episodes"] == 20 and not any("error" in r for r in results["episodes"])
+    v2 = Path(__file__).resolve().parents[2] / "agents" / "checkpoints" / "house-gen-v2" / "a3c"
+    out = run(
+        "objsearch-eval", "--agent", "a3c", "--suite", "my-suite.json", "--seeds", "1", "--cache-dir", cache_dir,
+        "--checkpoint", str(v2), "--quiet", cwd=made,
+    )  # fmt: skip
+    assert_clean_error(out, "trained on suite house-gen-v2 (for unseen houses of generator house-gen-2)", "house-gen-1")
