@@ -50,17 +50,21 @@ LEADERBOARD_HOUSE ?= house-single:a3c house-single:dqn house-single:hdqn house-s
 # house agents also trained on predicted observations (agents/checkpoints/SUITE/AGENT/predicted/, the paper's
 # setting), evaluated on predicted observations as entry AGENT_predicted_trained
 LEADERBOARD_HOUSE_TRAINED_PREDICTED ?= house-single:a3c house-single:hrl_grg
+# training-free reference agents on every house suite, evaluated on gt and on predicted observations
+LEADERBOARD_HOUSE_REFERENCE ?= frontier
 # then replay that many episodes of every stored entry (objsearch leaderboard verify --all: ~3 min
 # with warm caches on the 2-core machine; the evaluations above have built the caches it reads)
 LEADERBOARD_VERIFY_EPISODES ?= 8
-leaderboard: $(STAMP)
-	mkdir -p build && date +%s > build/.leaderboard-start
-	for pair in $(LEADERBOARD_HOUSE); do suite=$${pair%%:*}; agent=$${pair#*:}; \
-	  $(BIN)/objsearch-eval --agent $$agent --suite $$suite --batch 32 --quiet --out build/$$suite-$$agent.json && \
+# one shell step of the loops below: evaluate $$agent on $$suite on gt and on predicted observations, store both
+EVAL_GT_AND_PREDICTED = $(BIN)/objsearch-eval --agent $$agent --suite $$suite --batch 32 --quiet --out build/$$suite-$$agent.json && \
 	  $(BIN)/objsearch leaderboard add build/$$suite-$$agent.json --replace && \
 	  $(BIN)/objsearch-eval --agent $$agent --suite $$suite --batch 32 --quiet --observation predicted \
 	    --out build/$$suite-$${agent}_predicted.json && \
-	  $(BIN)/objsearch leaderboard add build/$$suite-$${agent}_predicted.json --name $${agent}_predicted --replace || exit 1; \
+	  $(BIN)/objsearch leaderboard add build/$$suite-$${agent}_predicted.json --name $${agent}_predicted --replace
+leaderboard: $(STAMP)
+	mkdir -p build && date +%s > build/.leaderboard-start
+	for pair in $(LEADERBOARD_HOUSE); do suite=$${pair%%:*}; agent=$${pair#*:}; \
+	  $(EVAL_GT_AND_PREDICTED) || exit 1; \
 	done
 	for pair in $(LEADERBOARD_HOUSE_TRAINED_PREDICTED); do suite=$${pair%%:*}; agent=$${pair#*:}; \
 	  $(BIN)/objsearch-eval --agent $$agent --suite $$suite --batch 32 --quiet --observation predicted \
@@ -68,6 +72,9 @@ leaderboard: $(STAMP)
 	  $(BIN)/objsearch leaderboard add build/$$suite-$${agent}_predicted_trained.json --name $${agent}_predicted_trained \
 	    --replace || exit 1; \
 	done
+	for suite in $(filter-out gridworld,$(LEADERBOARD_SUITES)); do for agent in $(LEADERBOARD_HOUSE_REFERENCE); do \
+	  $(EVAL_GT_AND_PREDICTED) || exit 1; \
+	done; done
 	for suite in $(LEADERBOARD_SUITES); do for agent in $(LEADERBOARD_AGENTS); do \
 	  $(BIN)/objsearch-eval --agent $$agent --suite $$suite --batch 32 --quiet --out build/$$suite-$$agent.json && \
 	  $(BIN)/objsearch leaderboard add build/$$suite-$$agent.json --replace || exit 1; \

@@ -44,12 +44,14 @@ from scipy.sparse import csr_matrix
 from scipy.sparse.csgraph import shortest_path
 
 from objsearch.eval.agent import AgentTask
+from objsearch.house.categories import CATEGORY_IDS
 
 CELL = 0.25  # metres: the pose graph's cell, so the agent's cells are the env's
 RADIUS = 120  # cells each side of the start: maps span 60 m
 SIZE = 2 * RADIUS + 1
 VOXEL = 0.1  # metres: target memory
 CEILING = 2.6  # metres: points higher up are the ceiling (walls are 2.7 m high)
+FLOOR, CEILING_ID = CATEGORY_IDS["floor"], CATEGORY_IDS["ceiling"]
 STEPS = np.array([[1, 0], [0, 1], [-1, 0], [0, -1]])  # (di, dj) of headings 0..3 (x forward, y left of the start)
 MOVE_OFFSET = {0: 0, 4: 1, 3: 2, 5: 3}  # action -> direction relative to the heading (ahead, left, back, right)
 ACTION_FOR_OFFSET = {v: k for k, v in MOVE_OFFSET.items()}
@@ -69,6 +71,18 @@ class FrontierConfig:
     """Points lower than this are floor."""
     block_radius: float = 0.18
     """A cell is blocked when an obstacle point lies this close to its centre (metres)."""
+    flat_floor: float = 0.003
+    """A frame whose floor pixels lie this close to height 0 (median, metres) has exact depth: its
+    obstacle points block at any range. Otherwise ``block_range`` and ``obstacle_range`` apply."""
+    block_range: float = 1.5
+    """Obstacle points nearer than this (metres along the ground) block cells (predicted depth errs in
+    proportion to range, so nearer points are surer)."""
+    obstacle_range: float = 3.0
+    """Obstacle points nearer than this and farther than ``block_range`` make cells costly to cross."""
+    min_points: int = 3
+    """... when at least this many points of one frame lie within ``block_radius``."""
+    soft_cost: float = 10.0
+    """What a path pays for crossing a cell only far obstacle points block, beside its one step."""
     max_range: float = 5.0
     """Free space is traced this far along each image column (metres)."""
     min_target_pixels: int = 3
@@ -98,7 +112,8 @@ class SlotState:
         self.camera = task.camera
         self.target = -1
         self.seen = np.zeros((SIZE, SIZE), bool)  # a ray or floor point fell in the cell
-        self.blocked = np.zeros((SIZE, SIZE), bool)  # an obstacle lies within block_radius of its centre
+        self.blocked = np.zeros((SIZE, SIZE), bool)  # an obstacle seen near lies within block_radius of its centre
+        self.soft = np.zeros((SIZE, SIZE), bool)  # ... one seen farther (less sure: paths may cross it, at a cost)
         self.top = np.zeros((SIZE, SIZE), np.float32)  # the highest point seen in the cell, below the ceiling
         self.edge = np.ones((4, SIZE, SIZE), bool)  # edge[d, i, j]: the move from (i, j) along d is not known blocked
         self.voxels = np.zeros((0, 3), np.int32)  # target voxels (i, j, k) of VOXEL metres from the map's origin
@@ -129,19 +144,35 @@ class SlotState:
         """Add one frame's points (``project``) to the map and the target voxels."""
         cfg = self.config
         x, y, height, rng, valid = p["x"], p["y"], p["height"], p["range"], p["valid"]
-        obstacle = valid & (height > cfg.obstacle_low) & (height < cfg.obstacle_high)
-        floor = valid & (height < cfg.floor_high)
-        ox, oy = x[obstacle], y[obstacle]
+        floor = valid & ((height < cfg.floor_high) | (semantic == FLOOR))
+        structure = (semantic == FLOOR) | (semantic == CEILING_ID)
+        # predicted depth errs in proportion to range: far points and floor pixels do not block
+        obstacle = valid & (height > cfg.obstacle_low) & (height < cfg.obstacle_high) & ~structure
+        seen_obstacle = obstacle  # what stops a column's free ray
         r2 = (cfg.block_radius / CELL) ** 2
-        for di in (-1, 0, 1):
-            for dj in (-1, 0, 1):
-                ci, cj = np.rint(ox).astype(int) + di, np.rint(oy).astype(int) + dj
-                near = (ci - ox) ** 2 + (cj - oy) ** 2 < r2
-                self.blocked[ci[near], cj[near]] = True
+        # How far to trust depth: where the floor's pixels lie flat (rendered depth), every range; where they
+        # scatter (predicted depth, whose error grows with range), near points block and farther ones cost
+        on_floor = valid & (semantic == FLOOR)
+        flat = on_floor.sum() >= 50 and np.median(np.abs(height[on_floor])) < cfg.flat_floor
+        block_range, soft_range = (np.inf, np.inf) if flat else (cfg.block_range, cfg.obstacle_range)
+        for grid, points in (
+            (self.blocked, obstacle & (rng < block_range)),
+            (self.soft, obstacle & (rng < soft_range)),
+        ):
+            ox, oy = x[points], y[points]
+            near = []
+            for di in (-1, 0, 1):
+                for dj in (-1, 0, 1):
+                    ci, cj = np.rint(ox).astype(int) + di, np.rint(oy).astype(int) + dj
+                    close = (ci - ox) ** 2 + (cj - oy) ** 2 < r2
+                    near.append(ci[close] * SIZE + cj[close])
+            # a cell blocks when enough points of the frame lie near it: stray points of predicted depth do not
+            counts = np.bincount(np.concatenate(near), minlength=SIZE * SIZE).reshape(SIZE, SIZE)
+            grid |= counts >= cfg.min_points
         solid = valid & (height > cfg.obstacle_low) & (height < CEILING)
         np.maximum.at(self.top, (np.rint(x[solid]).astype(int), np.rint(y[solid]).astype(int)), height[solid])
         # free space: along each column's ray up to its nearest obstacle, and every floor point
-        reach = np.where(obstacle, rng, np.inf).min(axis=0) - 0.5 * CELL
+        reach = np.where(seen_obstacle, rng, np.inf).min(axis=0) - 0.5 * CELL
         seen_floor = np.where(floor, rng, 0.0).max(axis=0)
         reach = np.minimum(reach, np.minimum(np.maximum(seen_floor, 1.0), cfg.max_range))
         t = np.arange(0.0, cfg.max_range, CELL / 2)
@@ -152,7 +183,7 @@ class SlotState:
         fi = np.concatenate([fi, np.rint(x[floor]), [cell[0]]]).astype(int)
         fj = np.concatenate([fj, np.rint(y[floor]), [cell[1]]]).astype(int)
         self.seen[fi, fj] = True
-        self.blocked[cell[0], cell[1]] = False  # it stands here
+        self.blocked[cell[0], cell[1]] = self.soft[cell[0], cell[1]] = False  # it stands here
         self.lo = np.minimum(self.lo, [fi.min(), fj.min()])
         self.hi = np.maximum(self.hi, [fi.max(), fj.max()])
         hits = valid & (semantic == self.target)
@@ -170,7 +201,8 @@ class SlotState:
         free = self.seen[box] & ~self.blocked[box]
         here = (int(cell[0] - lo[0]), int(cell[1] - lo[1]))
         free[here] = True
-        dist, pred = bfs(free, self.edge[:, box[0], box[1]], here)
+        cost = 1.0 + self.config.soft_cost * self.soft[box]
+        dist, pred = bfs(free, self.edge[:, box[0], box[1]], here, cost)
         goal = self._approach(dist, lo, heading, self.config.approach_share) if len(self.voxels) else None
         if goal is None:
             goal = self._frontier(free, dist, lo, heading)
@@ -228,6 +260,7 @@ class SlotState:
         """The nearest frontier pose: a reachable free cell facing an unseen, unblocked one."""
         unknown = ~self.seen[lo[0] : lo[0] + free.shape[0], lo[1] : lo[1] + free.shape[1]]
         unknown &= ~self.blocked[lo[0] : lo[0] + free.shape[0], lo[1] : lo[1] + free.shape[1]]
+        unknown &= ~self.soft[lo[0] : lo[0] + free.shape[0], lo[1] : lo[1] + free.shape[1]]
         h, w = free.shape
         cells, headings = [], []
         for k, (di, dj) in enumerate(STEPS):
@@ -372,13 +405,14 @@ def column_angles(camera: dict) -> np.ndarray:
     return -np.arctan(u)
 
 
-def bfs(free: np.ndarray, edge: np.ndarray, start) -> tuple[np.ndarray, np.ndarray]:
-    """Steps from ``start`` to every cell over free cells and open edges (-1: unreached), and
-    each cell's predecessor on a shortest path (flat index; -9999 at the start and where
-    unreached)."""
+def bfs(free: np.ndarray, edge: np.ndarray, start, cost: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """The cost of a cheapest path from ``start`` to every cell over free cells and open edges
+    (``cost``: of entering each cell; -1: unreached), and each cell's predecessor on it (flat
+    index; -9999 at the start and where unreached)."""
     h, w = free.shape
     index = np.arange(h * w).reshape(h, w)
     rows, cols = [], []
+    weights = cost.ravel()
     for k, (di, dj) in enumerate(STEPS):
         src = (
             slice(max(-di, 0), h + min(-di, 0)),
