@@ -423,9 +423,7 @@ def bfs(free: np.ndarray, edge: np.ndarray, start, cost: np.ndarray) -> tuple[np
         rows.append(index[src][ok])
         cols.append(index[dst][ok])
     rows, cols = np.concatenate(rows), np.concatenate(cols)
-    graph = csr_matrix((np.ones(len(rows)), (rows, cols)), shape=(h * w, h * w))
-    dist, pred = shortest_path(
-        graph, method="D", unweighted=True, indices=start[0] * w + start[1], return_predecessors=True
-    )
-    dist = np.where(np.isinf(dist), -1, dist).astype(np.int32).reshape(h, w)
+    graph = csr_matrix((weights[cols], (rows, cols)), shape=(h * w, h * w))
+    dist, pred = shortest_path(graph, method="D", indices=start[0] * w + start[1], return_predecessors=True)
+    dist = np.where(np.isinf(dist), -1.0, dist).reshape(h, w)
     return dist, pred.reshape(h, w)
