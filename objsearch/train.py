@@ -17,6 +17,7 @@ from __future__ import annotations
 import argparse
 import shlex
 import sys
+from pathlib import Path
 
 from objsearch.cliargs import key_value, non_negative_int
 from objsearch.errors import UserError
@@ -69,7 +70,8 @@ def run(args: argparse.Namespace) -> int:
     trainer = getattr(cls, "train", None)
     if not callable(trainer):
         raise UserError(f"agent {args.agent!r} cannot be trained (its class has no train(...) classmethod)")
-    out = args.out or f"runs/{args.suite}/{args.agent.replace(':', '.')}-seed{args.seed}"
+    suite_dir = Path(args.suite).stem if args.suite.endswith(".json") else args.suite  # a suite file: its name
+    out = args.out or f"runs/{suite_dir}/{args.agent.replace(':', '.')}-seed{args.seed}"
     command = "objsearch " + " ".join(shlex.quote(a) for a in sys.argv[1:]) if sys.argv[1:2] == ["train"] else None
     budget = {"episodes": args.episodes} if args.steps is None else {"episodes": args.episodes, "steps": args.steps}
     summary = trainer(

@@ -78,7 +78,7 @@ class HouseAgent:
                 raise UserError(
                     f"no {name} checkpoint is shipped for suite {suite} (houses of generator {generator or 'several'}: "
                     f"checkpoints for unseen houses exist for {', '.join(GENERALISATION_SUITES)}); train one with "
-                    f"`objsearch train --agent {name} --suite {suite} --out {run}` and pass --checkpoint {run}"
+                    f"`objsearch train --agent {name} --suite {suite}` (it writes {run}) and pass --checkpoint {run}"
                 )
             print(
                 f"{name}: suite {suite} has houses of generator {generator}; using the checkpoint trained on "

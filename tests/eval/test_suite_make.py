@@ -273,3 +273,9 @@ def test_shipped_agents_run_on_your_suite_with_the_checkpoint_of_its_generator(m
         "--checkpoint", str(v2), "--quiet", cwd=made,
     )  # fmt: skip
     assert_clean_error(out, "trained on suite house-gen-v2 (for unseen houses of generator house-gen-2)", "house-gen-1")
+    out = run("objsearch-eval", "--agent", "hdqn", "--suite", "my-suite.json", "--seeds", "1", "--quiet", cwd=made)
+    assert_clean_error(
+        out,
+        "no hdqn checkpoint",
+        "`objsearch train --agent hdqn --suite my-suite.json` (it writes runs/my-suite/hdqn-seed0)",
+    )
