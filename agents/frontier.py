@@ -8,11 +8,15 @@ parameters (``task.camera``). No checkpoint, no training, CPU only.
 Each step, for every episode of the batch:
 
 1. **Map.** The depth image becomes points (planar depth, pinhole camera). Points between
-   ``obstacle_low`` and ``obstacle_high`` metres above the floor are obstacles: every map
-   cell (0.25 m, aligned with the pose graph's cells) whose centre lies within
-   ``block_radius`` of one is blocked. ``block_radius`` is a little below the agent's
-   radius, so a cell the agent can stand on is never blocked (checked against the true
-   floor plan in the tests). Each image column is a ray of a planar scan: the cells it
+   ``obstacle_low`` and ``obstacle_high`` metres above the floor, other than floor and
+   ceiling pixels, are obstacles: a map cell (0.25 m, aligned with the pose graph's cells)
+   is blocked when ``min_points`` of a frame's lie within ``block_radius`` of its centre.
+   ``block_radius`` is a little below the agent's radius, so a cell the agent can stand on
+   is never blocked (checked against the true floor plan in the tests). How far depth is
+   trusted comes from the frame itself: where the floor's pixels lie flat (rendered depth)
+   every point counts; where they scatter (predicted depth), only points within
+   ``block_range`` block, and those within ``obstacle_range`` make a cell cost
+   ``soft_cost`` more to cross. Each image column is a ray of a planar scan: the cells it
    crosses before its nearest obstacle (and floor points) are seen free. A move that comes
    back ``collided`` blocks that edge.
 2. **Target.** Pixels of the target's id become points, kept in 0.1 m voxels.
@@ -26,9 +30,10 @@ Each step, for every episode of the batch:
    struck off; when no untried pose is left, it explores on for another instance.
 4. **Frontier exploration.** Otherwise it goes to the nearest frontier pose: a free cell
    beside an unseen one, facing it. Path costs are the env's: one step a cell (the agent
-   can strafe), one a quarter turn.
-5. **Recovery.** With nothing to go to (no frontier reachable), or when the plan does not
-   move it for ``stuck_steps`` steps, it takes random moves from ``task.rng``.
+   can strafe), one a quarter turn; a run of ``face_run`` cells turns to face it first.
+   The goal is kept while it stays a candidate.
+5. **Recovery.** With nothing to go to (no frontier reachable), or after ``stuck_steps``
+   steps on two poses or fewer, it takes a random action from ``task.rng``.
 
 The batched form (``act_batch``) projects every slot's frame in one array pass; planning
 is per slot, on the slot's own map. Records do not depend on the batch: the agent is
@@ -192,7 +197,7 @@ class SlotState:
             self.voxels = np.unique(np.concatenate([self.voxels, vox.astype(np.int32)]), axis=0)
 
     # -- decisions ------------------------------------------------------------------------
-    def decide(self, cell, heading: int, camera: dict) -> int:
+    def decide(self, cell, heading: int) -> int:
         """The next action: towards the best view of the target if one is known, else the
         nearest frontier, else a random move."""
         lo = np.maximum(self.lo - 2, 0)
@@ -374,7 +379,7 @@ class FrontierAgent:
             state.target = int(obs[n]["target"])
             state.observe_move(cell[n], heading[n], int(obs[n]["collided"]))
             state.update_map(cell[n], heading[n], {k: v[n] for k, v in points.items()}, np.asarray(obs[n]["semantic"]))
-            actions[i] = state.decide(cell[n], heading[n], self._camera)
+            actions[i] = state.decide(cell[n], heading[n])
         return actions
 
 
