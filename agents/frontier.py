@@ -48,7 +48,7 @@ import numpy as np
 from scipy.sparse import csr_matrix
 from scipy.sparse.csgraph import shortest_path
 
-from objsearch.eval.agent import AgentTask
+from objsearch.eval.agent import AgentTask, OneSlotBatch
 from objsearch.house.categories import CATEGORY_IDS
 
 CELL = 0.25  # metres: the pose graph's cell, so the agent's cells are the env's
@@ -338,7 +338,7 @@ def view_scores(cells: np.ndarray, voxels: np.ndarray, top: np.ndarray, camera: 
     return out
 
 
-class FrontierAgent:
+class FrontierAgent(OneSlotBatch):
     """Frontier exploration with approach on sight (``objsearch-eval --agent frontier``)."""
 
     config = FrontierConfig()
@@ -347,14 +347,7 @@ class FrontierAgent:
     def worlds(cls) -> tuple[str, ...]:
         return ("house",)
 
-    # the single-episode form is the batched one with one slot
-    def reset(self, task: AgentTask) -> None:
-        self.start_batch(1)
-        self.reset_batch({0: task})
-
-    def act(self, observation) -> int:
-        return self.act_batch({0: observation})[0]
-
+    # the single-episode form is the batched one with one slot (OneSlotBatch)
     def start_batch(self, num_slots: int) -> None:
         self._slots: list[SlotState | None] = [None] * num_slots
         self._camera = None

@@ -23,7 +23,7 @@ import numpy as np
 
 from objsearch import digests
 from objsearch.errors import UserError
-from objsearch.eval.agent import AgentTask
+from objsearch.eval.agent import OneSlotBatch
 from objsearch_agents.gridworld_checkpoint import POLICY_FILE, load_policy
 from objsearch_agents.gridworld_config import GridAgentConfig
 from objsearch_agents.gridworld_policy import GridPolicy
@@ -35,7 +35,7 @@ TRAIN_SUITES = ("gridworld",)
 CHECKPOINTS = Path(__file__).parent / "checkpoints" / "gridworld"
 
 
-class GridAgent:
+class GridAgent(OneSlotBatch):
     """A grid-world agent from a ``GridAgentConfig`` (subclasses set ``config``). A subclass
     that sets ``house`` (the same method's ``HouseAgent`` class) runs in the houses too:
     ``for_suite`` and ``train`` hand house suites to it."""
@@ -107,14 +107,7 @@ class GridAgent:
                 f"checkpoint {path} was trained as {describe(saved)}, not {describe(mine)}; pick the matching --agent"
             )
 
-    # -- the protocol (one episode, or N in lockstep: the same code) -------------------------
-    def reset(self, task: AgentTask) -> None:
-        self.start_batch(1)
-        self.reset_batch({0: task})
-
-    def act(self, observation) -> int:
-        return self.act_batch({0: observation})[0]
-
+    # -- the protocol (one episode, or N in lockstep: the same code, OneSlotBatch) -----------
     def start_batch(self, num_slots: int) -> None:
         self._slots = int(num_slots)
         self.policy.start(self._slots)

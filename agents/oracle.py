@@ -4,18 +4,11 @@ It reads the episode's ground truth (``task.privileged.shortest_path()``) and re
 the suites' dynamics are deterministic, so it succeeds in exactly the minimal steps.
 """
 
-from objsearch.eval.agent import AgentTask
+from objsearch.eval.agent import OneSlotBatch
 
 
-class OracleAgent:
+class OracleAgent(OneSlotBatch):
     """Shortest-path actions from the suite's ground truth."""
-
-    def reset(self, task: AgentTask) -> None:
-        self.start_batch(1)
-        self.reset_batch({0: task})
-
-    def act(self, observation):
-        return self.act_batch({0: observation})[0]
 
     # the batched form: one plan per slot
     def start_batch(self, num_slots: int) -> None:

@@ -20,6 +20,7 @@ import numpy as np
 
 from objsearch import digests
 from objsearch.errors import UserError
+from objsearch.eval.agent import OneSlotBatch
 from objsearch_agents.house.checkpoint import POLICY_FILE, load_policy
 from objsearch_agents.house.config import HouseAgentConfig
 from objsearch_agents.house.tables import HISTORY, ObservationTables
@@ -54,7 +55,7 @@ def generalisation_checkpoint(suite: str, name: str) -> tuple[Path | None, str |
     return (default_checkpoint(trained_on, name) if trained_on else None), generator
 
 
-class HouseAgent:
+class HouseAgent(OneSlotBatch):
     """A house agent from a ``HouseAgentConfig`` (subclasses set ``config``)."""
 
     config = HouseAgentConfig()
@@ -133,14 +134,7 @@ class HouseAgent:
                 file=sys.stderr,
             )
 
-    # -- the protocol (one episode, or N in lockstep: the same code) -------------------------
-    def reset(self, task) -> None:
-        self.start_batch(1)
-        self.reset_batch({0: task})
-
-    def act(self, observation) -> int:
-        return self.act_batch({0: observation})[0]
-
+    # -- the protocol (one episode, or N in lockstep: the same code, OneSlotBatch) -----------
     def start_batch(self, num_slots: int) -> None:
         self._slots = int(num_slots)
         self.policy.start(self._slots)

@@ -25,7 +25,8 @@ The batched form (``objsearch-eval --batch N``): N episodes run in lockstep in s
 
 decides for all slots in one call. Each slot's episode must draw from its own
 ``task.rng`` exactly as ``reset``/``act`` would, so its record does not depend on N. An
-agent without them gets one instance per slot.
+agent without them gets one instance per slot. An agent written in the batched form can
+take ``reset``/``act`` from ``OneSlotBatch`` (one episode as a batch of one slot).
 """
 
 from __future__ import annotations
@@ -79,6 +80,20 @@ class Agent(Protocol):
     def act(self, observation: Any) -> Any:
         """The action for ``observation`` (one step)."""
         ...
+
+
+class OneSlotBatch:
+    """Mixin for an agent that has the batched protocol: ``reset`` and ``act`` play one
+    episode as a batch of one slot, so the single-episode form is the batched code."""
+
+    def reset(self, task: AgentTask) -> None:
+        """Begin ``task`` as the only slot of a batch of one."""
+        self.start_batch(1)
+        self.reset_batch({0: task})
+
+    def act(self, observation: Any) -> Any:
+        """The action of the one slot for ``observation``."""
+        return self.act_batch({0: observation})[0]
 
 
 def is_batched(agent) -> bool:
