@@ -102,6 +102,15 @@ class FrontierConfig:
     """This many steps on two poses or fewer (blocked, or turning to and fro) start a random move."""
 
 
+def neighbours(k: int, shape) -> tuple[tuple[slice, slice], tuple[slice, slice]]:
+    """Slices of a (h, w) grid: the cells whose neighbour along heading ``k`` is inside, and
+    those neighbours, in the same order."""
+    (di, dj), (h, w) = STEPS[k], shape
+    cells = slice(max(-di, 0), h + min(-di, 0)), slice(max(-dj, 0), w + min(-dj, 0))
+    beside = slice(max(di, 0), h + min(di, 0)), slice(max(dj, 0), w + min(dj, 0))
+    return cells, beside
+
+
 def turns(a, b):
     """Quarter turns between headings ``a`` and ``b`` (0, 1 or 2)."""
     d = (np.asarray(b) - np.asarray(a)) % 4
@@ -153,7 +162,6 @@ class SlotState:
         structure = (semantic == FLOOR) | (semantic == CEILING_ID)
         # predicted depth errs in proportion to range: far points and floor pixels do not block
         obstacle = valid & (height > cfg.obstacle_low) & (height < cfg.obstacle_high) & ~structure
-        seen_obstacle = obstacle  # what stops a column's free ray
         r2 = (cfg.block_radius / CELL) ** 2
         # How far to trust depth: where the floor's pixels lie flat (rendered depth), every range; where they
         # scatter (predicted depth, whose error grows with range), near points block and farther ones cost
@@ -177,7 +185,7 @@ class SlotState:
         solid = valid & (height > cfg.obstacle_low) & (height < CEILING)
         np.maximum.at(self.top, (np.rint(x[solid]).astype(int), np.rint(y[solid]).astype(int)), height[solid])
         # free space: along each column's ray up to its nearest obstacle, and every floor point
-        reach = np.where(seen_obstacle, rng, np.inf).min(axis=0) - 0.5 * CELL
+        reach = np.where(obstacle, rng, np.inf).min(axis=0) - 0.5 * CELL
         seen_floor = np.where(floor, rng, 0.0).max(axis=0)
         reach = np.minimum(reach, np.minimum(np.maximum(seen_floor, 1.0), cfg.max_range))
         t = np.arange(0.0, cfg.max_range, CELL / 2)
@@ -263,17 +271,14 @@ class SlotState:
 
     def _frontier(self, free, dist, lo, heading: int):
         """The nearest frontier pose: a reachable free cell facing an unseen, unblocked one."""
-        unknown = ~self.seen[lo[0] : lo[0] + free.shape[0], lo[1] : lo[1] + free.shape[1]]
-        unknown &= ~self.blocked[lo[0] : lo[0] + free.shape[0], lo[1] : lo[1] + free.shape[1]]
-        unknown &= ~self.soft[lo[0] : lo[0] + free.shape[0], lo[1] : lo[1] + free.shape[1]]
-        h, w = free.shape
+        box = (slice(lo[0], lo[0] + free.shape[0]), slice(lo[1], lo[1] + free.shape[1]))
+        unknown = ~(self.seen[box] | self.blocked[box] | self.soft[box])
         cells, headings = [], []
-        for k, (di, dj) in enumerate(STEPS):
-            beside = np.zeros((h, w), bool)  # the neighbour along k is unknown
-            beside[max(-di, 0) : h + min(-di, 0), max(-dj, 0) : w + min(-dj, 0)] = unknown[
-                max(di, 0) : h + min(di, 0), max(dj, 0) : w + min(dj, 0)
-            ]
-            ij = np.argwhere(beside & (dist >= 0))
+        for k in range(4):
+            here, beside = neighbours(k, free.shape)
+            facing = np.zeros(free.shape, bool)  # the neighbour along k is unknown
+            facing[here] = unknown[beside]
+            ij = np.argwhere(facing & (dist >= 0))
             cells.append(ij)
             headings.append(np.full(len(ij), k))
         cells, headings = np.concatenate(cells), np.concatenate(headings)
@@ -411,12 +416,8 @@ def bfs(free: np.ndarray, edge: np.ndarray, start, cost: np.ndarray) -> tuple[np
     index = np.arange(h * w).reshape(h, w)
     rows, cols = [], []
     weights = cost.ravel()
-    for k, (di, dj) in enumerate(STEPS):
-        src = (
-            slice(max(-di, 0), h + min(-di, 0)),
-            slice(max(-dj, 0), w + min(-dj, 0)),
-        )  # cells with the neighbour inside
-        dst = slice(max(di, 0), h + min(di, 0)), slice(max(dj, 0), w + min(dj, 0))  # ... and those neighbours
+    for k in range(4):
+        src, dst = neighbours(k, free.shape)
         ok = free[src] & edge[k][src] & free[dst]
         rows.append(index[src][ok])
         cols.append(index[dst][ok])
