@@ -3,6 +3,10 @@
 Writes ``OUT/<house_id>/`` for seeds S .. S+N-1: ``house.xml`` (compiles in MuJoCo; meshes
 under ``meshes/`` beside it), ``spec.json`` (the HouseSpec) and ``preview.png``, plus
 ``OUT/categories.json`` (the segmentation category table).
+
+``--placement shuffled`` builds the same houses (floorplan, rooms, objects) with every object
+moved to a random place anywhere in the house, whatever the functional groups and room
+priors say (``objsearch.house.shuffle``): houses whose object relations are broken.
 """
 
 from __future__ import annotations
@@ -12,6 +16,7 @@ import sys
 
 from objsearch.cliargs import non_negative_int, positive_int
 from objsearch.errors import UserError
+from objsearch.house.spec import HOUSE_PLACEMENTS
 
 
 def add_parser(subparsers) -> None:
@@ -40,6 +45,13 @@ def add_parser(subparsers) -> None:
         help="generator version (default: house-gen-1, the one every shipped suite uses; house-gen-2: zoned "
         "floorplans with corridors, L-shaped rooms, an entrance and fill that follows room area)",
     )
+    p.add_argument(
+        "--placement",
+        choices=HOUSE_PLACEMENTS,
+        default="functional",
+        help="where objects go: functional (default: in functional groups, by room priors) or shuffled (the "
+        "functional house's objects, each moved to a random place anywhere in the house)",
+    )
     p.add_argument("--no-preview", action="store_true", help="skip preview.png")
     p.add_argument("--quiet", action="store_true", help="no progress bar")
     p.set_defaults(func=run)
@@ -59,7 +71,7 @@ def run(args: argparse.Namespace) -> int:
     failed = []
     for seed in tqdm(seeds, desc="houses", unit="house", disable=args.quiet or args.num == 1):
         try:
-            house = generate_house(seed, args.rooms, args.split, generator=args.generator)
+            house = generate_house(seed, args.rooms, args.split, generator=args.generator, placement=args.placement)
         except HouseGenerationError as err:
             failed.append(str(err))
             continue

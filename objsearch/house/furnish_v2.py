@@ -39,6 +39,7 @@ JUNCTION = 0.55  # free depth kept inside the main rectangle where it opens into
 NARROW = 1.6  # parts of an L narrower than this stay free (a passage, not a place for things)
 TUB_AREA = 5.5  # interior m^2 from which a bathroom may get a bathtub
 PASSAGE = 0.75  # free width kept along a corridor's middle
+NARROW_HALLWAY = 2.4  # a hallway narrower than this keeps the passage
 KITCHEN_TABLE = (9.5, 0.7)  # (minimum area m^2, probability) of a table in a kitchen
 
 
@@ -101,8 +102,9 @@ def door_keepouts(L: RoomLayout, room: Room, doors: list[Door]) -> None:
             L.block((x0, cy - w, 0.0, x1, cy + w, 10.0))
 
 
-def _passage(L: RoomLayout) -> None:
-    x0, y0, x1, y1 = L.interior
+def passage(L: RoomLayout, rect) -> None:
+    """Keep a ``PASSAGE``-wide strip free along the middle of ``rect`` (x0, y0, x1, y1), the long way."""
+    x0, y0, x1, y1 = rect
     if x1 - x0 >= y1 - y0:
         m = (y0 + y1) / 2
         L.block((x0, m - PASSAGE / 2, 0.0, x1, m + PASSAGE / 2, 10.0))
@@ -177,7 +179,7 @@ def _shrunk(rect, h: float):
     return (r4(x0 + h), r4(y0 + h), r4(x1 - h), r4(y1 - h))
 
 
-def _whole(ctx: HouseContext, room: Room, doors: list[Door], wall_height: float, h: float, blocks) -> RoomLayout:
+def whole_layout(ctx: HouseContext, room: Room, doors: list[Door], wall_height: float, h: float, blocks) -> RoomLayout:
     """A layout over the room's whole bounding box, its notches blocked (and ``blocks``, or its door keep-outs)."""
     L = RoomLayout(ctx, room.id, room.type, _shrunk(room.bounds, h), wall_height)
     if blocks:
@@ -206,8 +208,8 @@ def furnish(
         door_keepouts(L, room, doors)
         for box in _open_sides(room, main, h):
             L.block(box)
-        if room.type == "hallway" and min(main[2] - main[0], main[3] - main[1]) < 2.4:
-            _passage(L)
+        if room.type == "hallway" and min(main[2] - main[0], main[3] - main[1]) < NARROW_HALLWAY:
+            passage(L, L.interior)
         placed = len(ctx.objects)
         try:
             furnish_room(L, types, MANDATORY_V2)
@@ -215,7 +217,7 @@ def furnish(
             if len(room.polygon) == 4 or len(ctx.objects) != placed:
                 raise
             # the group (which placed nothing) may fit across the whole L
-            L = _whole(ctx, room, doors, wall_height, h, [])
+            L = whole_layout(ctx, room, doors, wall_height, h, [])
             furnish_room(L, types, MANDATORY_V2)
             main = room.bounds
         if (
@@ -226,7 +228,7 @@ def furnish(
         ):
             dining_group(L, f"dining_{room.id}")
         if len(room.polygon) > 4 and main != room.bounds:  # the top-up sees the whole room
-            whole = _whole(ctx, room, doors, wall_height, h, L.blocks)
+            whole = whole_layout(ctx, room, doors, wall_height, h, L.blocks)
             whole.objects = list(L.objects)
             for px0, py0, px1, py1 in room.rects():
                 if min(px1 - px0, py1 - py0) < NARROW:

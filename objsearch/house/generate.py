@@ -19,11 +19,20 @@ Generators (``GENERATORS``, chosen with ``generate_house(..., generator=NAME)``)
 checkpoint uses it, byte for byte) and ``house-gen-2`` (``objsearch.house.generate_v2``:
 zoned floorplans with corridors, L-shaped rooms, per-type room sizes, an entrance and fill
 that follows room area; its own rules in ``objsearch.house.validate_v2``).
+
+Placements (``HOUSE_PLACEMENTS``, chosen with ``generate_house(..., placement=NAME)``): ``functional``
+(the default: objects in functional groups, by room priors) and ``shuffled``: the functional
+house of the seed with every object moved to a random place anywhere in the house
+(``objsearch.house.shuffle``), drawn from its own generator
+(``default_rng([seed, split, SHUFFLE_STREAM, generator])``, so the functional draws are
+unchanged). Every shuffle is validated, ``validate`` or not (so a seed always gives the same
+house); a shuffle that fails draws another, up to ``SHUFFLE_ATTEMPTS``.
 """
 
 from __future__ import annotations
 
 from dataclasses import dataclass
+from functools import partial
 from pathlib import Path
 
 import mujoco
@@ -39,7 +48,8 @@ from objsearch.house.furnish import furnish
 from objsearch.house.layout import HouseContext
 from objsearch.house.materials import EXTERIOR, room_materials
 from objsearch.house.mjcf import compile_house
-from objsearch.house.spec import HouseSpec, Room, r4
+from objsearch.house.shuffle import shuffle_house
+from objsearch.house.spec import HOUSE_PLACEMENTS, HouseSpec, Room, r4
 from objsearch.house.validate import ValidationReport, validate_house
 
 HOUSE_GENERATOR_VERSION = "house-gen-1"
@@ -52,6 +62,8 @@ WALL_HEIGHT = 2.7
 WALL_THICKNESS = 0.12
 SPLITS = {"train": 0, "test": 1}
 SIZE_STREAM = 7919
+SHUFFLE_ATTEMPTS = 32
+SHUFFLE_STREAM = 104729
 
 
 class HouseGenerationError(RuntimeError):
@@ -147,40 +159,69 @@ def generate_house(
     split: str = "train",
     validate: bool = True,
     generator: str = DEFAULT_GENERATOR,
+    placement: str = "functional",
 ) -> GeneratedHouse:
     """Generate, compile and (with ``validate``) check the house of ``seed``, retrying up to ``MAX_ATTEMPTS``.
 
-    ``generator`` names the generator version (``GENERATORS``; default ``house-gen-1``).
-    Raises ``UserError`` for an unknown split, size class or generator, ``HouseGenerationError`` if no
-    attempt is valid.
+    ``generator`` names the generator version (``GENERATORS``; default ``house-gen-1``),
+    ``placement`` how objects are placed (``HOUSE_PLACEMENTS``; default ``functional``).
+    Raises ``UserError`` for an unknown split, size class, generator or placement,
+    ``HouseGenerationError`` if no attempt (no shuffle) is valid.
     """
     build = spec_builder(generator)
     if split not in SPLITS:
         raise UserError(f"unknown split {split!r}; use one of {', '.join(SPLITS)}")
     if size_class is not None and size_class not in SIZE_CLASSES:
         raise UserError(f"unknown room size {size_class!r}; use one of {', '.join(SIZE_CLASSES)}")
+    if placement not in HOUSE_PLACEMENTS:
+        raise UserError(f"unknown placement {placement!r}; use one of {', '.join(HOUSE_PLACEMENTS)}")
     size_class = size_class or size_class_for(seed)
+    if placement == "shuffled":
+        return _shuffled(generate_house(seed, size_class, split, generator=generator))
     failures = []
     attempts = GENERATOR_ATTEMPTS[generator]
     for attempt in range(attempts):
-        try:
-            spec = build(seed, size_class, split, attempt)
-        except StageFailure as err:
-            failures.append(f"attempt {attempt}: {err}")
-            continue
-        try:
-            model, xml = compile_house(spec)
-        except ValueError as err:  # mujoco compile errors
-            failures.append(f"attempt {attempt}: MuJoCo compile failed: {err}")
-            continue
-        report = validate_house(spec, model) if validate else ValidationReport()
-        if report.ok:
-            return GeneratedHouse(spec, xml, model, report)
-        failures.append(f"attempt {attempt}: " + "; ".join(report.problems[:3]))
+        house = _checked(partial(build, seed, size_class, split, attempt), validate)
+        if isinstance(house, GeneratedHouse):
+            return house
+        failures.append(f"attempt {attempt}: {house}")
     raise HouseGenerationError(
         f"seed {seed} ({size_class}, {split}, {generator}): no valid house in {attempts} attempts:\n  "
         + "\n  ".join(failures)
     )
+
+
+def _shuffled(house: GeneratedHouse) -> GeneratedHouse:
+    """The shuffled house of the functional ``house``: the first valid of ``SHUFFLE_ATTEMPTS`` shuffles."""
+    spec = house.spec
+    generator = spec.generator_version
+    rng = np.random.default_rng([spec.seed, SPLITS[spec.split], SHUFFLE_STREAM, GENERATORS.index(generator)])
+    failures = []
+    for attempt in range(SHUFFLE_ATTEMPTS):
+        shuffled = _checked(partial(shuffle_house, spec, rng), validate=True)
+        if isinstance(shuffled, GeneratedHouse):
+            return shuffled
+        failures.append(f"shuffle {attempt}: {shuffled}")
+    raise HouseGenerationError(
+        f"seed {spec.seed} ({spec.size_class}, {spec.split}, {generator}, placement shuffled): no valid shuffle "
+        f"in {SHUFFLE_ATTEMPTS} tries; use another seed:\n  " + "\n  ".join(failures)
+    )
+
+
+def _checked(build, validate: bool) -> GeneratedHouse | str:
+    """The house of the spec ``build()`` returns, compiled and (with ``validate``) checked, or what went wrong."""
+    try:
+        spec = build()
+    except StageFailure as err:
+        return str(err)
+    try:
+        model, xml = compile_house(spec)
+    except ValueError as err:  # mujoco compile errors
+        return f"MuJoCo compile failed: {err}"
+    report = validate_house(spec, model) if validate else ValidationReport()
+    if report.ok:
+        return GeneratedHouse(spec, xml, model, report)
+    return "; ".join(report.problems[:3])
 
 
 def write_house(house: GeneratedHouse, out_dir: str | Path, preview: bool = True) -> Path:

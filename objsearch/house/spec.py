@@ -23,6 +23,9 @@ SCHEMA_VERSION = 1
 DECIMALS = 4
 #: The room id a door's ``rooms`` holds for the outside of the house (an entrance door).
 OUTSIDE = -1
+#: How a house's objects are placed (``HouseSpec.placement``): in functional groups by room
+#: priors, or shuffled (``objsearch.house.shuffle``). The first is the default.
+HOUSE_PLACEMENTS = ("functional", "shuffled")
 
 
 def r4(x: float) -> float:
@@ -233,6 +236,13 @@ class HouseSpec(JsonConfig):
             return (r4(cx), r4(cy + sign * depth))
         sign = 1.0 if room.contains(cx + 0.05, cy) else -1.0
         return (r4(cx + sign * depth), r4(cy))
+
+    @property
+    def placement(self) -> str:
+        """How the objects were placed: ``functional`` (groups and room priors) or ``shuffled``
+        (``objsearch.house.shuffle``), recorded in ``extra`` (absent: functional, so the
+        functional houses' bytes never changed)."""
+        return self.extra.get("placement", HOUSE_PLACEMENTS[0])
 
     def material(self, name: str) -> Material:
         """The material named ``name`` (StopIteration if there is none)."""

@@ -33,6 +33,8 @@ class HouseRef:
         seed, split, size_class: regenerate with ``objsearch.house.generate``.
         generator: the generator version to regenerate with (None: ``house-gen-1``; unset fields
             are left out of ``to_json``, so references to ``house-gen-1`` houses keep their bytes).
+        placement: how its objects are placed (``objsearch.house.spec.HOUSE_PLACEMENTS``; None:
+            ``functional``), e.g. ``shuffled``.
         path: a house directory (``house.xml`` + ``spec.json``) instead of a seed.
         spec_sha256: if set, the house's spec must hash to it.
     """
@@ -43,6 +45,7 @@ class HouseRef:
     path: str | None = None
     spec_sha256: str | None = None
     generator: str | None = None
+    placement: str | None = None
 
     def to_json(self) -> dict:
         """The reference as a JSON dict, without its unset (None) fields."""
@@ -76,7 +79,12 @@ class World:
             from objsearch.house.generate import generate_house
 
             house = generate_house(
-                ref.seed, ref.size_class, ref.split, validate=False, generator=ref.generator or "house-gen-1"
+                ref.seed,
+                ref.size_class,
+                ref.split,
+                validate=False,
+                generator=ref.generator or "house-gen-1",
+                placement=ref.placement or "functional",
             )
             world = cls(house.spec, house.model)
         if ref.spec_sha256 is not None and world.spec_sha256 != ref.spec_sha256:
