@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import argparse
+import contextlib
 import re
 import sys
 import time
@@ -11,7 +12,6 @@ from pathlib import Path
 from objsearch.errors import UserError
 
 DEFAULT_DIR = "leaderboard"
-NAME = re.compile(r"[A-Za-z0-9][A-Za-z0-9_.-]*")  # matched with fullmatch: "abc\n" is no name
 
 
 def add_parser(subparsers) -> None:
@@ -59,9 +59,13 @@ def add_parser(subparsers) -> None:
     render.set_defaults(func=run_render)
 
 
-def _validated(path: str | Path, partial: bool = False) -> dict:
+def _validated(path: str | Path, partial: bool = False, stored: bool = False) -> dict:
+    """The results in ``path`` if they pass every check (``stored``: a stored entry, whose file
+    name must be an entry name too); ``UserError`` if not."""
     from objsearch.leaderboard.validate import check_submission, load_submission
 
+    if stored:
+        check_entry_name(Path(path).stem, f"stored entry {path}", "rename the file")
     results = load_submission(path)
     if partial:
         results["partial"] = True
@@ -69,6 +73,18 @@ def _validated(path: str | Path, partial: bool = False) -> dict:
     if problems:
         raise UserError(f"submission {path} is rejected: " + "; ".join(problems))
     return results
+
+
+def check_entry_name(name: str, what: str, fix: str = "pass another --name") -> None:
+    """Refuse (``UserError``) an entry name that is not ``ENTRY_NAME``; ``what`` says where it
+    came from, ``fix`` what to do."""
+    from objsearch.leaderboard.validate import ENTRY_NAME
+
+    if not ENTRY_NAME.fullmatch(name):
+        raise UserError(
+            f"{what}: entry name {name!r} must start with a letter or digit and hold only letters, digits, "
+            f"'_', '-' or '.' (at most 100 characters); {fix}"
+        )
 
 
 def _stored(root: str | Path) -> list[Path]:
@@ -82,6 +98,17 @@ def _stored(root: str | Path) -> list[Path]:
             "repository root or pass --dir PATH/leaderboard (add --create starts a new leaderboard there)"
         )
     return sorted(store.glob("*/*.json"))
+
+
+@contextlib.contextmanager
+def _writing(root: str | Path):
+    """Hold the leaderboard ``root``'s lock: one writer at a time checks, stores and renders,
+    so that no entry is lost and the pages list every stored one."""
+    from objsearch.leaderboard.render import SUBMISSIONS
+    from objsearch.sim.cache import locked
+
+    with locked(Path(root, SUBMISSIONS)):  # the lock file: <root>/.submissions.lock, removed after
+        yield
 
 
 def default_name(agent: str) -> str:
@@ -98,7 +125,7 @@ def run_check(args: argparse.Namespace) -> int:
     if not files:
         raise UserError(f"no submissions under {Path(args.dir)}; pass FILE or --dir")
     for path in files:
-        results = _validated(path, args.partial)
+        results = _validated(path, args.partial, stored=not args.files)
         kind = "partial, " if results.get("partial") else ""
         print(f"ok: {path} ({kind}{results['agent']} on {results['suite']}, {len(results['episodes'])} episodes)")
     return 0
@@ -108,30 +135,39 @@ def run_add(args: argparse.Namespace) -> int:
     """``objsearch leaderboard add``: validate a results file, store it under ``submissions/<suite>/<name>.json``
     and regenerate the pages.
 
-    Raises ``UserError`` for a rejected file, a bad ``--name``, or an existing entry without ``--replace``.
+    The folder must be writable (checked first). The file is validated before the lock is
+    taken; under it, the exists check, the other entries' check, the write and the render.
+
+    Raises ``UserError`` for a rejected file, a bad ``--name``, an unwritable folder, or an
+    existing entry without ``--replace``.
     """
-    from objsearch.fileio import write_json
+    from objsearch.fileio import check_writable
     from objsearch.leaderboard.render import SUBMISSIONS, render
 
+    root = Path(args.dir)
+    if args.name is not None:
+        check_entry_name(args.name, "--name")
+    if args.create and not Path(root, SUBMISSIONS).is_dir():
+        check_writable(root, "leaderboard folder --dir", folder=True)
+        Path(root, SUBMISSIONS).mkdir(parents=True, exist_ok=True)
+    _stored(root)
+    for folder in (root, Path(root, SUBMISSIONS)):  # the pages, the entries: before the slow validation
+        check_writable(folder, "leaderboard folder", folder=True)
     results = _validated(args.file, args.partial)
     name = args.name if args.name is not None else default_name(results["agent"])
-    if not NAME.fullmatch(name):
-        raise UserError(
-            f"entry name {name!r} must start with a letter or digit and hold only letters, digits, "
-            "'_', '-' or '.'; pass another --name"
-        )
-    if not Path(args.dir, SUBMISSIONS).is_dir() and args.create:
-        Path(args.dir, SUBMISSIONS).mkdir(parents=True)
-    target = Path(args.dir, SUBMISSIONS, results["suite"], f"{name}.json")
-    stored = _stored(args.dir)
-    if target.exists() and not args.replace:
-        raise UserError(f"{target} exists; pass --replace to replace it or --name to add another entry")
-    for path in stored:  # the pages are rendered from every stored entry: refuse before writing anything
+    check_entry_name(name, f"agent {results['agent']!r}")
+    target = Path(root, SUBMISSIONS, results["suite"], f"{name}.json")
+    check_writable(target, "entry")
+    with _writing(root):
+        if target.exists() and not args.replace:
+            raise UserError(f"{target} exists; pass --replace to replace it or --name to add another entry")
+        for path in _stored(root):  # the pages are rendered from every stored entry: refuse before writing
+            if path != target:
+                _validated(path, stored=True)
+        written = render(root, add=(target, results))
+    for path in written:
         if path != target:
-            _validated(path)
-    write_json(target, results, indent=None)
-    for path in render(args.dir):
-        print(f"wrote {path}", file=sys.stderr)
+            print(f"wrote {path}", file=sys.stderr)
     print(f"added {target}" + (" (partial: listed apart, not ranked)" if results.get("partial") else ""))
     return 0
 
@@ -182,9 +218,13 @@ def run_verify(args: argparse.Namespace) -> int:
 
 def run_render(args: argparse.Namespace) -> int:
     """``objsearch leaderboard render``: regenerate README.md and index.html from the stored entries."""
+    from objsearch.fileio import check_writable
     from objsearch.leaderboard.render import render
 
     _stored(args.dir)
-    for path in render(args.dir):
+    check_writable(args.dir, "leaderboard folder", folder=True)
+    with _writing(args.dir):
+        written = render(args.dir)
+    for path in written:
         print(f"wrote {path}")
     return 0

@@ -8,10 +8,14 @@ paper_tables.md show the full submissions only."""
 
 from __future__ import annotations
 
+import contextlib
+import html
 import json
+import re
 from importlib.resources import files
 from pathlib import Path
 
+from objsearch.errors import UserError
 from objsearch.fileio import atomic_write
 from objsearch.leaderboard.paper import (
     GREEDY_SUFFIX,
@@ -30,12 +34,15 @@ from objsearch.leaderboard.paper import (
 SUBMISSIONS = "submissions"
 
 
-def stored_submissions(root: str | Path) -> list[tuple[str, dict]]:
-    """(name, results) of every stored submission, sorted by suite then name."""
+def _stored(root: str | Path) -> dict[Path, dict]:
     from objsearch.leaderboard.validate import load_submission
 
-    paths = sorted(Path(root, SUBMISSIONS).glob("*/*.json"))
-    return [(path.stem, load_submission(path)) for path in paths]
+    return {path: load_submission(path) for path in sorted(Path(root, SUBMISSIONS).glob("*/*.json"))}
+
+
+def stored_submissions(root: str | Path) -> list[tuple[str, dict]]:
+    """(name, results) of every stored submission, sorted by suite then name."""
+    return [(path.stem, results) for path, results in _stored(root).items()]
 
 
 def observation_label(results: dict) -> str:
@@ -80,11 +87,20 @@ def _num(value) -> str:
     return "–" if value is None else f"{value:.2f}"
 
 
+def markdown_text(text) -> str:
+    """``text`` as it must go into a Markdown table cell or heading to show as itself: HTML
+    tags and entities escaped, line breaks as spaces, and the characters that end a cell or
+    start markup (``\\ ` * [ ] |``) backslash-escaped."""
+    text = html.escape(" ".join(str(text).splitlines()), quote=False)
+    return re.sub(r"([\\`*\[\]|])", r"\\\1", text)
+
+
 def _markdown_row(rank, r: dict) -> str:
+    name, observation, version, commit = (markdown_text(r[k]) for k in ("name", "observation", "version", "commit"))
     return (
-        f"| {rank} | {r['name']} | {r['observation']} | {_num(r['sr'])} | {_num(r['sr_ci'][0])}–{_num(r['sr_ci'][1])} | "
+        f"| {rank} | {name} | {observation} | {_num(r['sr'])} | {_num(r['sr_ci'][0])}–{_num(r['sr_ci'][1])} | "
         f"{_num(r['spl'])} | {_num(r['spl_ci'][0])}–{_num(r['spl_ci'][1])} | "
-        f"{_num(r['as'])} / {_num(r['ms'])} | {r['episodes']} | {r['seeds']} | {r['version']} | {r['commit']} |"
+        f"{_num(r['as'])} / {_num(r['ms'])} | {r['episodes']} | {r['seeds']} | {version} | {commit} |"
     )
 
 
@@ -110,7 +126,7 @@ def render_markdown(tables: dict, partial: dict | None = None) -> str:
     ]
     for suite, splits in tables.items():
         for split, rows in splits.items():
-            lines += ["", f"## {suite} — {split}", "", *_MARKDOWN_HEADER]
+            lines += ["", f"## {markdown_text(suite)} — {markdown_text(split)}", "", *_MARKDOWN_HEADER]
             lines += [_markdown_row(rank, r) for rank, r in enumerate(rows, start=1)]
             for p in paper_rows(suite, split):
                 lines.append(
@@ -127,7 +143,7 @@ def render_markdown(tables: dict, partial: dict | None = None) -> str:
         ]
         for suite, splits in partial.items():
             for split, rows in splits.items():
-                lines += ["", f"### {suite} — {split} (partial)", "", *_MARKDOWN_HEADER]
+                lines += ["", f"### {markdown_text(suite)} — {markdown_text(split)} (partial)", "", *_MARKDOWN_HEADER]
                 lines += [_markdown_row("–", r) for r in rows]
     return "\n".join(lines) + "\n"
 
@@ -243,7 +259,8 @@ def _beyond_the_paper(submissions: list[tuple[str, dict]]) -> list[str]:
             continue
         splits = list(next(iter(ours.values()))["splits"])
         lines += ["", f"## Beyond the paper: {suite}", "", *about, ""]
-        lines += ["| Method | observation | " + " | ".join(splits) + " |", "|---" * (2 + len(splits)) + "|"]
+        header = " | ".join(markdown_text(split) for split in splits)
+        lines += [f"| Method | observation | {header} |", "|---" * (2 + len(splits)) + "|"]
         for name in ("oracle",) + HOUSE3D_TABLE:
             for seen, entry in _observation_rows(name, set(ours)).items():
                 if entry not in ours:
@@ -270,26 +287,50 @@ def page_template() -> str:
 
 
 def render_html(tables: dict) -> str:
-    """``index.html``: the page template with ``tables`` and the paper's rows as its data."""
+    """``index.html``: the page template with ``tables`` and the paper's rows as its data, as
+    JSON that cannot end its script element: ``<``, ``>`` and ``&`` are written as ``\\u003c``,
+    ``\\u003e`` and ``\\u0026`` (the same strings to the script), U+2028/9 as ``\\u2028/9``."""
     paper = {suite: {split: paper_rows(suite, split) for split in splits} for suite, splits in tables.items()}
-    data = json.dumps({"tables": tables, "paper": paper}).replace("</", "<\\/")
+    data = json.dumps({"tables": tables, "paper": paper}, ensure_ascii=True)  # ensure_ascii: also U+2028/9
+    for char in "<>&":  # outside strings JSON has none of them
+        data = data.replace(char, f"\\u{ord(char):04x}")
     return page_template().replace(DATA_PLACEHOLDER, data)
 
 
-def render(root: str | Path) -> list[Path]:
-    """Regenerate ``README.md``, ``index.html`` and ``paper_tables.md`` under ``root``; returns their paths."""
+def _write_together(texts: dict[Path, str]) -> None:
+    """Write every file of ``texts`` to a temp file beside it, then rename them all: a failure
+    while writing (a full disk) leaves every previous file in place (``UserError``)."""
+    path = None
+    try:
+        with contextlib.ExitStack() as stack:
+            for path, text in texts.items():
+                f = stack.enter_context(atomic_write(path))
+                f.write(text)
+                f.flush()  # a write error shows here, before any file is renamed
+    except OSError as err:
+        raise UserError(
+            f"cannot write {path} ({err.strerror}); the leaderboard is as it was: free some space "
+            "or fix the folder's permissions, then run the command again"
+        ) from None
+
+
+def render(root: str | Path, add: tuple[Path, dict] | None = None) -> list[Path]:
+    """Regenerate ``README.md``, ``index.html`` and ``paper_tables.md`` under ``root`` from its
+    stored submissions; with ``add`` (path, results), store that submission as well, in the same
+    write. Nothing is replaced unless every file is written. Returns the paths written.
+
+    Two writers at once would lose pages: callers hold the leaderboard's lock (the CLI does)."""
     root = Path(root)
-    submissions = stored_submissions(root)
+    entries, texts = _stored(root), {}
+    if add is not None:
+        path, results = add
+        entries[path] = results
+        texts[path] = json.dumps(results) + "\n"  # as objsearch.fileio.write_json(..., indent=None) writes it
+    submissions = [(path.stem, results) for path, results in sorted(entries.items(), key=lambda e: e[0])]
     tables = leaderboard_rows(submissions)
     full = [(name, results) for name, results in submissions if not results.get("partial")]
-    written = []
-    pages = (
-        ("README.md", render_markdown(tables, leaderboard_rows(submissions, partial=True))),
-        ("index.html", render_html(tables)),
-        ("paper_tables.md", render_paper_tables(full)),
-    )
-    for name, text in pages:
-        with atomic_write(root / name) as f:
-            f.write(text)
-        written.append(root / name)
-    return written
+    texts[root / "README.md"] = render_markdown(tables, leaderboard_rows(submissions, partial=True))
+    texts[root / "index.html"] = render_html(tables)
+    texts[root / "paper_tables.md"] = render_paper_tables(full)
+    _write_together(texts)
+    return list(texts)

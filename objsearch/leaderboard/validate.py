@@ -18,8 +18,11 @@ import functools
 import hashlib
 import json
 import math
+import re
 from collections import Counter
 from pathlib import Path
+
+import numpy as np
 
 from objsearch.errors import UserError
 from objsearch.eval.config import PAPER_SEEDS, EvalConfig
@@ -47,15 +50,64 @@ REPLAYED = ("goal", "min_steps", "task", "success", "steps", "error")
 VERIFY_EPISODES = 8
 
 
+# Parsing limits: a hostile file is refused with a message, never a traceback or a stall.
+MAX_BYTES = 32 * 2**20  # a full suite's results are under 1 MB
+MAX_DEPTH = 16  # a results JSON nests 5 deep (results > episodes > record > task > start)
+MAX_DIGITS = 20  # digits of a number: any 64-bit integer; Python's own limit, 4300, is a traceback
+_JSON_STRING = re.compile(rb'"[^"\\]*(?:\\.[^"\\]*)*"')
+_LONG_NUMBER = re.compile(rb"[0-9]{%d,}" % (MAX_DIGITS + 1))
+_NOT_BRACKETS = bytes(b for b in range(256) if b not in b"[]{}")
+
+
+def _past_limits(raw: bytes) -> str | None:
+    """What of the JSON text ``raw`` is past ``MAX_DIGITS`` or ``MAX_DEPTH``, if anything:
+    looked for outside its strings, before parsing (which would recurse that deep)."""
+    skeleton = _JSON_STRING.sub(b'""', raw)
+    long = _LONG_NUMBER.search(skeleton)
+    if long:
+        return f"a number of {len(long.group())} digits (at most {MAX_DIGITS})"
+    brackets = np.frombuffer(skeleton.translate(None, _NOT_BRACKETS), dtype=np.uint8)
+    steps = np.where((brackets == ord("[")) | (brackets == ord("{")), 1, -1)
+    if steps.size and steps.cumsum().max() > MAX_DEPTH:
+        return f"nests deeper than {MAX_DEPTH} levels"
+    return None
+
+
+def _finite(text: str) -> float:
+    value = float(text)
+    if not math.isfinite(value):
+        raise ValueError(f"the number {text[:30]} is out of range")
+    return value
+
+
+def _no_constant(name: str):
+    raise ValueError(f"{name} is not a number JSON allows")
+
+
 def load_submission(path: str | Path) -> dict:
-    """The results dict in the JSON file ``path``; ``UserError`` if it cannot be read or is no JSON object."""
+    """The results dict in the JSON file ``path``; ``UserError`` if it cannot be read, is no
+    JSON object, or is past the parsing limits (``MAX_BYTES``, ``MAX_DEPTH``, ``MAX_DIGITS``;
+    NaN and infinities are refused too)."""
     path = Path(path)
     try:
-        data = json.loads(path.read_text())
+        with path.open("rb") as f:
+            raw = f.read(MAX_BYTES + 1)
     except OSError as err:
         raise UserError(f"cannot read submission {path}: {err.strerror}") from None
-    except (json.JSONDecodeError, UnicodeDecodeError) as err:
-        raise UserError(f"submission {path} is not JSON: {err}") from None
+    if len(raw) > MAX_BYTES:
+        raise UserError(
+            f"submission {path} is larger than the limit of {MAX_BYTES // 2**20} MiB: not a results JSON of objsearch-eval"
+        )
+    problem = _past_limits(raw)
+    if problem is None:
+        try:
+            data = json.loads(raw.decode("utf-8"), parse_float=_finite, parse_constant=_no_constant)
+        except RecursionError:  # only past the checks above when the file is no JSON at all
+            problem = f"nests deeper than {MAX_DEPTH} levels"
+        except ValueError as err:  # also JSONDecodeError, UnicodeDecodeError and the number checks
+            problem = str(err)
+    if problem is not None:
+        raise UserError(f"submission {path} cannot be read as a results JSON: {problem}")
     if not isinstance(data, dict):
         raise UserError(f"submission {path} is not a results object from objsearch-eval")
     return data
@@ -79,30 +131,62 @@ def _is_seeds(x) -> bool:
     return isinstance(x, list) and all(_is_int(v) and v >= 0 for v in x)
 
 
-def _is_strs(x) -> bool:
-    return isinstance(x, list) and all(isinstance(v, str) for v in x)
-
-
 def _is_number(x) -> bool:
     return isinstance(x, (int, float)) and not isinstance(x, bool)
 
 
-_STR = (lambda x: isinstance(x, str), "a string")
-_OPT_STR = (lambda x: x is None or isinstance(x, str), "a string or null")
+def _format(pattern: str, what: str, optional: bool = False) -> tuple:
+    """(test, description) of a string field: ``pattern`` must match the whole string."""
+    regex = re.compile(pattern)
+    test = lambda x: (optional and x is None) or (isinstance(x, str) and regex.fullmatch(x) is not None)
+    return test, what + (" (or null)" if optional else "")
+
+
+# The declared format of every string a submission holds: what reaches the pages or a terminal
+# is one of these, never free text (and the pages escape it as well).
+ENTRY_NAME = re.compile(r"[A-Za-z0-9][A-Za-z0-9_.-]{0,99}")  # fullmatch: "abc\n" is no name
+_NAME_CHARS = "a letter or digit, then letters, digits, '_', '.' or '-'"
+_NAME = _format(ENTRY_NAME.pattern, f"a name: {_NAME_CHARS} (at most 100 characters)")
+_AGENT = _format(
+    r"[A-Za-z0-9_./:-]{1,200}",
+    "an agent name, module:Class or path/file.py:Class of letters, digits, '_', '.', '/', ':' or '-' "
+    "(at most 200 characters)",
+)
+_VERSION = _format(
+    r"[A-Za-z0-9][A-Za-z0-9_.:+!-]{0,99}",
+    "a version: a letter or digit, then letters, digits, '_', '.', ':', '+', '!' or '-' (at most 100 characters)",
+)
+_COMMIT = _format(r"[0-9a-f]{7,64}", "a git commit: 7 to 64 lowercase hex digits", optional=True)
+_SHA256 = _format(r"[0-9a-f]{64}", "a SHA-256 digest: 64 lowercase hex digits", optional=True)
+_KEY = _format(r"[0-9a-f]{1,64}", "a perception key: up to 64 lowercase hex digits", optional=True)
+_PATH = _format(
+    r"[^\x00-\x1f\x7f-\x9f\u2028\u2029]{1,1024}",
+    "a path or word of at most 1024 characters, no control characters",
+    optional=True,
+)
+
+
+def _text(limit: int) -> tuple:
+    return _format(
+        rf"[^\x00-\x08\x0b-\x1f\x7f-\x9f\u2028\u2029]{{0,{limit}}}",
+        f"text of at most {limit} characters, no control characters but tab and line breaks",
+    )
+
+
 _INT = (_is_int, "an integer")
 _SEEDS = (_is_seeds, "a list of non-negative integers")
-_STRS = (_is_strs, "a list of strings")
+_NAMES = (lambda x: isinstance(x, list) and all(_NAME[0](v) for v in x), f"a list of names ({_NAME_CHARS})")
 _BOOL = (lambda x: isinstance(x, bool), "true or false")
 _DICT = (lambda x: isinstance(x, dict), "an object")
 _OPT_NUMBER = (lambda x: x is None or _is_number(x), "a number or null")
 # field: (test, what it must be, required)
 TOP_FIELDS = {
     "schema_version": (*_INT, True),
-    "agent": (*_STR, True),
-    "suite": (*_STR, True),
-    "episode_set_version": (*_STR, True),
-    "objsearch_version": (*_STR, True),
-    "git_commit": (*_OPT_STR, False),
+    "agent": (*_AGENT, True),
+    "suite": (*_NAME, True),
+    "episode_set_version": (*_VERSION, True),
+    "objsearch_version": (*_VERSION, True),
+    "git_commit": (*_COMMIT, False),
     "seeds": (*_SEEDS, True),
     "config": (*_DICT, True),
     "splits": (*_DICT, True),
@@ -110,27 +194,30 @@ TOP_FIELDS = {
     "partial": (*_BOOL, False),
 }
 CONFIG_FIELDS = {
-    "agent": (*_STR, True),
-    "suite": (*_STR, True),
-    "splits": (*_STRS, True),
+    "agent": (*_AGENT, True),
+    "suite": (*_NAME, True),
+    "splits": (*_NAMES, True),
     "seeds": (*_SEEDS, True),
-    "checkpoint": (*_OPT_STR, False),
+    "checkpoint": (*_PATH, False),
     "suite_config": (*_DICT, False),
     "step_time_limit": (*_OPT_NUMBER, False),
-    "weights_sha256": (*_OPT_STR, False),
+    "weights_sha256": (*_SHA256, False),
 }
+# the strings of a suite's options (the suite checks their values): the perception key is
+# shown on the pages; any other string option is a path
+SUITE_CONFIG_STRINGS = {"perception_key": _KEY}
 RECORD_FIELDS = {
-    "split": (*_STR, True),
+    "split": (*_NAME, True),
     "seed": (*_INT, True),
     "episode_id": (*_INT, True),
-    "goal": (*_STR, True),
+    "goal": (*_NAME, True),
     "success": (*_BOOL, True),
     "steps": (*_INT, True),
     "min_steps": (*_INT, True),
     "spl": (*_OPT_NUMBER, False),
     "task": (*_DICT, True),
-    "error": (*_STR, False),
-    "traceback": (*_STR, False),
+    "error": (*_text(2000), False),
+    "traceback": (*_text(20000), False),
 }
 
 
@@ -155,6 +242,12 @@ def type_problems(results: dict) -> list[str]:
     problems = _field_problems(results, TOP_FIELDS, "results")
     if not problems:
         problems = _field_problems(results["config"], CONFIG_FIELDS, "config")
+    if not problems:
+        suite_config = results["config"].get("suite_config", {})
+        strings = {
+            k: (*SUITE_CONFIG_STRINGS.get(k, _PATH), False) for k, v in suite_config.items() if isinstance(v, str)
+        }
+        problems = _field_problems(suite_config, strings, "config.suite_config")
     if not problems:
         problems = [
             f"summary of split {split!r} is {_short(s)}, not an object"

@@ -89,7 +89,7 @@ MUTATIONS = [
         lambda r: r["config"].update(suite_config={"max_steps": "many"}),
         "suite configuration {'max_steps': 'many'} is not valid",
     ),
-    (lambda r: r.update(episode_set_version=7), "results field 'episode_set_version' is 7, not a string"),
+    (lambda r: r.update(episode_set_version=7), "results field 'episode_set_version' is 7, not a version"),
     (lambda r: r.update(partial="yes"), "results field 'partial' is 'yes', not true or false"),
 ]
 
@@ -213,3 +213,101 @@ def test_a_self_consistent_fake_fails_verify(tmp_path, capsys, random_results):
     assert "is True in the submission but False when replayed" in line or "steps is" in line
     code, _, err = run(capsys, "--dir", board, "verify", "gridworld/nosuch")
     assert code == 2 and "no stored entry 'gridworld/nosuch'" in one_error_line(err)
+
+
+def _suite_config(r):
+    return r["config"].setdefault("suite_config", {})
+
+
+# (change, the field named, what it must be): every string a submission holds has a declared format
+HOSTILE_FIELDS = [
+    (lambda r: r.update(agent="<!--<script>"), "results field 'agent' is '<!--<script>'", "not an agent name"),
+    (lambda r: r["config"].update(agent="a b"), "config field 'agent' is 'a b'", "not an agent name"),
+    (lambda r: r.update(suite="x" * 101), "results field 'suite'", "a name: a letter or digit"),
+    (
+        lambda r: r.update(objsearch_version="0.1|x<img src=x onerror=alert(1)>"),
+        "results field 'objsearch_version'",
+        "not a version",
+    ),
+    (lambda r: r.update(episode_set_version="v1\n"), "results field 'episode_set_version'", "not a version"),
+    (lambda r: r.update(git_commit="</script>"), "results field 'git_commit'", "7 to 64 lowercase hex digits"),
+    (lambda r: r["config"].update(splits=["a|b"]), "config field 'splits' is ['a|b']", "a list of names"),
+    (lambda r: r["config"].update(checkpoint="ckpt\x1b[2J"), "config field 'checkpoint'", "no control characters"),
+    (lambda r: r["config"].update(weights_sha256="abc"), "config field 'weights_sha256'", "64 lowercase hex digits"),
+    (
+        lambda r: _suite_config(r).update(perception_key="<b>"),
+        "config.suite_config field 'perception_key' is '<b>'",
+        "a perception key",
+    ),
+    (lambda r: _suite_config(r).update(tasks="t\u2028.jsonl"), "config.suite_config field 'tasks'", "a path"),
+    (lambda r: r["episodes"][0].update(goal="g0<b>"), "episodes[0] field 'goal'", "not a name"),
+    (lambda r: r["episodes"][1].update(split="x" * 101), "episodes[1] field 'split'", "at most 100 characters"),
+    (lambda r: r["episodes"][2].update(error="\x1b]0;owned\x07"), "episodes[2] field 'error'", "text of at most"),
+    (lambda r: r["episodes"][3].update(traceback="x" * 20001), "episodes[3] field 'traceback'", "20000 characters"),
+]
+
+
+@pytest.mark.parametrize("change, field, what", HOSTILE_FIELDS)
+def test_a_string_out_of_its_declared_format_is_refused_naming_the_field(
+    tmp_path, capsys, oracle_results, change, field, what
+):
+    bad = copy.deepcopy(dict(oracle_results, partial=True))
+    change(bad)
+    (tmp_path / "bad.json").write_text(json.dumps(bad))
+    code, _, err = run(capsys, "check", tmp_path / "bad.json")
+    line = one_error_line(err)
+    assert code == 2 and field in line and what in line, line
+    assert "\x1b" not in line and "\u2028" not in line  # shown escaped, never sent to the terminal
+
+
+def test_an_entry_name_has_a_declared_format_also_when_stored_by_hand(tmp_path, capsys, oracle_results):
+    board = tmp_path / "board"
+    (tmp_path / "oracle.json").write_text(json.dumps(oracle_results))
+    assert run(capsys, "--dir", board, "add", tmp_path / "oracle.json", "--partial", "--create", "--name", "a")[0] == 0
+    code, _, err = run(capsys, "--dir", board, "add", tmp_path / "oracle.json", "--partial", "--name", "x" * 101)
+    assert code == 2 and "entry name 'xxx" in one_error_line(err) and "at most 100 characters" in err
+    (board / "submissions/gridworld/<!--<script>.json").write_text(json.dumps(dict(oracle_results, partial=True)))
+    code, _, err = run(capsys, "--dir", board, "check")
+    line = one_error_line(err)
+    assert code == 2 and "stored entry " in line and "entry name '<!--<script>' must start" in line
+    assert "rename the file" in line
+    code, _, err = run(capsys, "--dir", board, "add", tmp_path / "oracle.json", "--partial", "--name", "b")
+    assert code == 2 and "entry name '<!--<script>'" in one_error_line(err)  # the pages would show it
+    assert sorted(p.name for p in (board / "submissions/gridworld").iterdir()) == ["<!--<script>.json", "a.json"]
+
+
+@pytest.mark.parametrize(
+    "content, message",
+    [
+        (b'{"schema_version": ' + b"1" * 5000 + b"}", "a number of 5000 digits (at most 20)"),
+        (b'{"seeds": [-' + b"9" * 21 + b"]}", "a number of 21 digits (at most 20)"),
+        (b"[" * 100_000 + b"]" * 100_000, "nests deeper than 16 levels"),
+        (b'{"a": ' + b"[" * 17 + b"]" * 17 + b"}", "nests deeper than 16 levels"),
+        (b'{"sr": NaN}', "NaN is not a number JSON allows"),
+        (b'{"sr": 1e999}', "the number 1e999 is out of range"),
+        (b'{"agent": "\xff"}', "can't decode byte 0xff"),
+        (b'{"agent": "x"', "Expecting ',' delimiter"),
+        (b"[1, 2]", "is not a results object"),
+    ],
+)
+def test_hostile_json_is_refused_within_parsing_limits(tmp_path, capsys, content, message):
+    (tmp_path / "hostile.json").write_bytes(content)
+    code, _, err = run(capsys, "check", tmp_path / "hostile.json")
+    line = one_error_line(err)
+    assert code == 2 and f"submission {tmp_path / 'hostile.json'} " in line and message in line, line
+
+
+def test_the_parsing_limits_look_outside_strings(tmp_path):
+    from objsearch.leaderboard.validate import load_submission
+
+    text = '{"a": "[[[[[[[[[[[[[[[[[[ \\" 123456789012345678901234567890", "b": [[[[[[[[[[[[[[[1.5e-300]]]]]]]]]]]]]]]}'
+    (tmp_path / "ok.json").write_text(text)
+    assert load_submission(tmp_path / "ok.json") == json.loads(text)  # 16 levels deep, the digits in a string
+
+
+def test_a_file_past_the_size_limit_is_refused_unread(tmp_path, capsys):
+    from objsearch.leaderboard.validate import MAX_BYTES
+
+    (tmp_path / "big.json").write_text('{"agent": "' + "x" * MAX_BYTES + '"}')
+    code, _, err = run(capsys, "check", tmp_path / "big.json")
+    assert code == 2 and "big.json is larger than the limit of 32 MiB" in one_error_line(err)
