@@ -22,11 +22,13 @@ that follows room area; its own rules in ``objsearch.house.validate_v2``).
 
 Placements (``HOUSE_PLACEMENTS``, chosen with ``generate_house(..., placement=NAME)``): ``functional``
 (the default: objects in functional groups, by room priors) and ``shuffled``: the functional
-house of the seed with every object moved to a random place anywhere in the house
-(``objsearch.house.shuffle``), drawn from its own generator
+house that the same arguments give, with every object moved to a random place anywhere in
+the house (``objsearch.house.shuffle``), drawn from its own generator
 (``default_rng([seed, split, SHUFFLE_STREAM, generator])``, so the functional draws are
-unchanged). Every shuffle is validated, ``validate`` or not (so a seed always gives the same
-house); a shuffle that fails draws another, up to ``SHUFFLE_ATTEMPTS``.
+unchanged). Every shuffle is validated, ``validate`` or not; a shuffle that fails draws
+another, up to ``SHUFFLE_ATTEMPTS``. (``validate=False``, as suites regenerate their houses,
+takes the first attempt that compiles, valid or not, so its functional house, and then its
+shuffled one, may differ from the validated one of the seed.)
 """
 
 from __future__ import annotations
@@ -177,7 +179,7 @@ def generate_house(
         raise UserError(f"unknown placement {placement!r}; use one of {', '.join(HOUSE_PLACEMENTS)}")
     size_class = size_class or size_class_for(seed)
     if placement == "shuffled":
-        return _shuffled(generate_house(seed, size_class, split, generator=generator))
+        return _shuffled(generate_house(seed, size_class, split, validate, generator))
     failures = []
     attempts = GENERATOR_ATTEMPTS[generator]
     for attempt in range(attempts):
