@@ -34,6 +34,10 @@ Each step, for every episode of the batch:
    The goal is kept while it stays a candidate.
 5. **Recovery.** With nothing to go to (no frontier reachable), or after ``stuck_steps``
    steps on two poses or fewer, it takes a random action from ``task.rng``.
+6. **STOP** (suites of the ObjectNav protocol, where ``task.stop_action`` is set): before
+   deciding, it calls STOP when the frame shows the goal rule's ``min_pixels`` target pixels
+   (``task.goal_rule``, counted at the goal camera's resolution, scaled to the agent's) at
+   most ``max_distance`` metres deep: the rule's own test, on what it sees.
 
 The batched form (``act_batch``) projects every slot's frame in one array pass; planning
 is per slot, on the slot's own map. Records do not depend on the batch: the agent is
@@ -50,6 +54,7 @@ from scipy.sparse.csgraph import shortest_path
 
 from objsearch.eval.agent import AgentTask, OneSlotBatch
 from objsearch.house.categories import CATEGORY_IDS
+from objsearch.sim.goals import GOAL_CAMERA
 
 CELL = 0.25  # metres: the pose graph's cell, so the agent's cells are the env's
 RADIUS = 120  # cells each side of the start: maps span 60 m
@@ -139,6 +144,7 @@ class SlotState:
         self.last = None  # (cell, heading, action) of the previous step
         self.recent: list[tuple[int, int, int]] = []  # the last ``stuck_steps`` poses
         self.goal = None  # the pose (map coordinates) it is heading for: kept while it stays a candidate
+        self.stop_action, self.stop_test = task.stop_action, stop_test(task)
 
     # -- memory ---------------------------------------------------------------------------
     def observe_move(self, cell, heading: int, collided: int) -> None:
@@ -205,6 +211,13 @@ class SlotState:
             self.voxels = np.unique(np.concatenate([self.voxels, vox.astype(np.int32)]), axis=0)
 
     # -- decisions ------------------------------------------------------------------------
+    def sees_goal(self, semantic: np.ndarray, depth: np.ndarray) -> bool:
+        """Whether the frame passes the STOP test (``stop_test``: enough target pixels near)."""
+        if self.stop_test is None:
+            return False
+        pixels, distance = self.stop_test
+        return int(((semantic == self.target) & (depth <= distance)).sum()) >= pixels
+
     def decide(self, cell, heading: int) -> int:
         """The next action: towards the best view of the target if one is known, else the
         nearest frontier, else a random move."""
@@ -284,7 +297,13 @@ class SlotState:
         cells, headings = np.concatenate(cells), np.concatenate(headings)
         if not len(cells):
             return None
-        return self._best(cells, headings, dist[cells[:, 0], cells[:, 1]] + turns(heading, headings), lo)
+        cost = dist[cells[:, 0], cells[:, 1]] + turns(heading, headings)
+        return self._best(cells, headings, self.frontier_cost(cells + lo, cost), lo)
+
+    def frontier_cost(self, cells: np.ndarray, cost: np.ndarray) -> np.ndarray:
+        """What choosing each frontier pose costs (``cells``: map coordinates, ``cost``: steps to
+        it); the cheapest is explored. A hook: ``grg_frontier`` takes off a relation bonus."""
+        return cost
 
     def _approach(self, dist, lo, heading: int, share: float):
         """The cheapest unvisited pose whose view of the target voxels scores at least ``share``
@@ -362,7 +381,11 @@ class FrontierAgent(OneSlotBatch):
             if task.camera is None:
                 raise ValueError(f"suite {task.suite!r} gives no camera parameters; the frontier agent needs them")
             self._camera = task.camera
-            self._slots[i] = SlotState(task, self.config)
+            self._slots[i] = self.new_slot(task)
+
+    def new_slot(self, task: AgentTask) -> SlotState:
+        """One episode's state (a hook: subclasses keep more)."""
+        return SlotState(task, self.config)
 
     def act_batch(self, observations: dict) -> dict:
         slots = list(observations)
@@ -377,8 +400,24 @@ class FrontierAgent(OneSlotBatch):
             state.target = int(obs[n]["target"])
             state.observe_move(cell[n], heading[n], int(obs[n]["collided"]))
             state.update_map(cell[n], heading[n], {k: v[n] for k, v in points.items()}, np.asarray(obs[n]["semantic"]))
-            actions[i] = state.decide(cell[n], heading[n])
+            if state.sees_goal(np.asarray(obs[n]["semantic"]), np.asarray(obs[n]["depth"])):
+                actions[i] = state.stop_action
+            else:
+                actions[i] = state.decide(cell[n], heading[n])
         return actions
+
+
+def stop_test(task: AgentTask) -> tuple[int, float] | None:
+    """When to call STOP: (target pixels, metres) where the protocol needs STOP
+    (``task.stop_action``), from its ``near_visible`` goal rule, its ``min_pixels`` (counted
+    on the goal camera's frame) scaled to the agent camera's frame; None without STOP."""
+    if task.stop_action is None:
+        return None
+    rule = task.goal_rule or {}
+    if rule.get("kind") != "near_visible":
+        raise ValueError(f"the frontier agent calls STOP by the near_visible goal rule, not {rule.get('kind')!r}")
+    scale = task.camera["width"] * task.camera["height"] / (GOAL_CAMERA.width * GOAL_CAMERA.height)
+    return int(np.ceil(rule["min_pixels"] * scale)), float(rule["max_distance"])
 
 
 def project(depth: np.ndarray, pose: np.ndarray, camera: dict) -> dict:

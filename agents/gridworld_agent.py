@@ -52,6 +52,11 @@ class GridAgent(OneSlotBatch):
         return ("gridworld", "house") if cls.house is not None else ("gridworld",)
 
     @classmethod
+    def protocols(cls) -> tuple[str, ...]:
+        """The paper's only: no STOP action, here or in the house agent it hands house suites to."""
+        return ("paper",)
+
+    @classmethod
     def for_suite(cls, suite: str, checkpoint: str | os.PathLike | None = None):
         """The agent for ``suite``: this grid-world agent, or the house agent of the same method."""
         from objsearch.eval.suites import suite_world

@@ -64,6 +64,11 @@ class HouseAgent(OneSlotBatch):
     def worlds(cls) -> tuple[str, ...]:
         return ("house",)
 
+    @classmethod
+    def protocols(cls) -> tuple[str, ...]:
+        """The paper's only: the learned agents have no STOP action (ObjectNav suites need one)."""
+        return ("paper",)
+
     def __init__(self, suite: str = "house-single", checkpoint: str | os.PathLike | None = None):
         import torch
 

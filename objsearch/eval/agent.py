@@ -27,6 +27,12 @@ decides for all slots in one call. Each slot's episode must draw from its own
 ``task.rng`` exactly as ``reset``/``act`` would, so its record does not depend on N. An
 agent without them gets one instance per slot. An agent written in the batched form can
 take ``reset``/``act`` from ``OneSlotBatch`` (one episode as a batch of one slot).
+
+Protocols: a suite's episodes end by themselves at the goal (``paper``) or need the agent to
+call STOP there (``objectnav``; the action is ``task.stop_action``, None under ``paper``). A
+class hook ``protocols()`` names those an agent plays; the harness refuses a suite of another
+before the first episode (the learned house agents have no STOP action: ``("paper",)``). An
+agent without it plays every protocol.
 """
 
 from __future__ import annotations
@@ -55,6 +61,14 @@ class AgentTask:
         camera: the camera's parameters where the env has one (house suites:
             ``objsearch.sim.camera.RenderSettings.intrinsics``: image size, fields of view,
             focal lengths, height, clipping), else None.
+        stop_action: the action the agent must take at a goal to succeed, where the suite's
+            protocol requires one (house suites of the ``objectnav`` protocol: 6, STOP; STOP
+            anywhere else ends the episode as a failure), else None (the episode ends by
+            itself on reaching a goal).
+        goal_rule: the rule that made the goal poses where the suite has one (house suites:
+            ``objsearch.sim.goals.GoalRule.to_json``, e.g. ``near_visible``: a pose that sees
+            ``min_pixels`` target pixels of the 64 x 64 goal camera within ``max_distance``
+            metres), else None.
     """
 
     suite: str
@@ -67,6 +81,8 @@ class AgentTask:
     rng: np.random.Generator
     privileged: Any = field(default=None, repr=False)
     camera: dict | None = None
+    stop_action: int | None = None
+    goal_rule: dict | None = None
 
 
 @runtime_checkable

@@ -134,6 +134,8 @@ def agent_task(
         rng=episode_rng(seed, split, episode.episode_id),
         privileged=episode.privileged,
         camera=info.get("camera"),
+        stop_action=info.get("stop_action"),
+        goal_rule=info.get("goal_rule"),
     )
 
 

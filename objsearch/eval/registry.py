@@ -116,9 +116,12 @@ def resolve_agent(spec: str, folder: str | None = None) -> type:
 
 def check_supports(spec: str, cls: type, suite: str) -> None:
     """Refuse, before any episode, an agent that declares worlds (``worlds()``) without the
-    suite's world."""
+    suite's world, or protocols (``protocols()``) without the suite's protocol."""
     from objsearch.eval.suites import suite_world
 
+    protocols = getattr(cls, "protocols", None)
+    if callable(protocols):
+        check_protocol(spec, protocols(), suite)
     worlds = getattr(cls, "worlds", None)
     if not callable(worlds):
         return
@@ -133,12 +136,35 @@ def check_supports(spec: str, cls: type, suite: str) -> None:
         )
 
 
+def check_protocol(spec: str, protocols, suite: str) -> None:
+    """Refuse an agent whose ``protocols()`` lack the suite's protocol: one without a STOP
+    action on a suite whose success needs STOP (``objectnav``)."""
+    from objsearch.eval.suites import suite_protocol
+    from objsearch.sim.suites import OBJECTNAV_SUITES
+
+    protocol = suite_protocol(suite)
+    if protocol in protocols:
+        return
+    if suite in OBJECTNAV_SUITES:
+        twin = f" ({OBJECTNAV_SUITES[suite]} has the same episodes)"
+    else:
+        twin = (
+            f" (objsearch suite make --protocol paper makes one of {suite}'s houses)" if suite.endswith(".json") else ""
+        )
+    raise UserError(
+        f"agent {spec!r} plays the {' and '.join(protocols)} protocol, not suite {suite!r}'s {protocol}: "
+        f"learned agents have no STOP action, and {protocol} counts success only when the agent calls STOP at the "
+        f"goal; evaluate it on a suite of the paper protocol{twin}"
+    )
+
+
 def make_agent(spec: str, checkpoint: str | None = None, suite: str | None = None, folder: str | None = None):
     """Instantiate the agent ``spec`` for ``suite`` and load ``checkpoint`` into it if given
     (``folder``: where modules and relative paths of ``spec`` are also looked for; default:
     the current folder).
 
-    An agent class may declare ``worlds()`` (the suites' worlds it runs in: checked first)
+    An agent class may declare ``worlds()`` (the suites' worlds it runs in) and
+    ``protocols()`` (the protocols it plays: ``paper``, ``objectnav``), both checked first,
     and ``for_suite(suite, checkpoint)`` (builds the agent for that suite, e.g. loading the
     checkpoint shipped for it); otherwise it is built with ``cls()`` and ``load(checkpoint)``."""
     cls = resolve_agent(spec, folder)

@@ -5,6 +5,7 @@ Schema (``schema_version`` 1)::
     {
       "schema_version": 1,
       "agent": "random", "suite": "gridworld", "episode_set_version": "gridworld-v1",
+      "protocol": "paper",
       "objsearch_version": "0.1.0", "git_commit": "<sha or null>",
       "seeds": [1, 5, 13, 45, 99],
       "config": {agent, suite, splits, seeds, checkpoint, suite_config},
@@ -16,6 +17,9 @@ Schema (``schema_version`` 1)::
 
 A failed episode's record also has ``error`` (the message) and, if the agent's own code
 raised it, ``traceback`` (its last frames).
+
+``protocol`` is the suite's (``paper`` or ``objectnav``: whether success needs STOP); results
+written before it existed are ``paper``.
 """
 
 from __future__ import annotations
@@ -57,6 +61,7 @@ def build_results(config, suite, records: list[dict]) -> dict:
         "agent": config.agent,
         "suite": suite.name,
         "episode_set_version": suite.episode_set_version,
+        "protocol": suite.protocol,
         "objsearch_version": __version__,
         "git_commit": git_commit(),
         "seeds": list(config.seeds),
@@ -103,6 +108,8 @@ def format_table(results: dict) -> str:
         f"suite {results['suite']} ({results['episode_set_version']}), "
         f"seeds {','.join(map(str, results['seeds']))}; episodes: {episodes}"
     )
+    if results.get("protocol", "paper") != "paper":
+        footer += f"; protocol {results['protocol']}"
     perception = results["config"].get("suite_config", {}).get("perception_key")
     if perception:
         footer += f"; predicted observations (perception network {perception})"

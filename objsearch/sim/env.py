@@ -91,7 +91,8 @@ class HouseTask:
         start: (row, col, heading) on the house's pose graph.
         target: category name.
         goals: goal poses (row, col, heading) from the goal rule.
-        min_steps: minimal actions from start to a goal pose.
+        min_steps: minimal actions from start to success: the moves to the nearest goal
+            pose, and the STOP there where the env has ``stop_action``.
     """
 
     house: str
@@ -130,6 +131,10 @@ class HouseEnv(gymnasium.Env):
     The camera's parameters (image size, horizontal and vertical field of view, focal
     lengths, height, clipping range) are the reset ``info["camera"]``
     (``RenderSettings.intrinsics``); the harness gives them to agents as ``task.camera``.
+    The reset ``info`` also says how to succeed: ``stop_action`` (6, the action the agent
+    must call at a goal pose, with ``stop_action=True``; else None) and ``goal_rule``
+    (``GoalRule.to_json``: the rule that made the goal poses); the harness gives them to
+    agents as ``task.stop_action`` and ``task.goal_rule``.
 
     ## Action Space
     ``Discrete(6)``: move ahead, rotate left, rotate right, move back, move left, move right
@@ -146,7 +151,8 @@ class HouseEnv(gymnasium.Env):
 
     ## Episode End
     Terminated on success: on reaching a goal pose, or with ``stop_action`` on STOP (success
-    iff at a goal pose). Truncated after ``max_steps`` (1000, the paper's).
+    iff at a goal pose; ``min_steps`` then counts the STOP). Truncated after ``max_steps``
+    (1000, the paper's).
 
     ## Arguments
     ``houses``: HouseRefs, or loaded ``World``s (envs that play side by side share them)
@@ -169,7 +175,9 @@ class HouseEnv(gymnasium.Env):
       "predicted"`` added later (the default ``gt`` is unchanged); ``starts="entrance"`` added
       later (the default ``anywhere`` samples the same tasks as before); the ``pose`` and
       ``collided`` keys and the reset ``info["camera"]`` added later (computed from the
-      state: the other keys, caches and records are unchanged).
+      state: the other keys, caches and records are unchanged); the reset
+      ``info["stop_action"]`` and ``info["goal_rule"]`` added later; with ``stop_action``,
+      ``min_steps`` counts the STOP (before, only the moves; no suite used it then).
     """
 
     metadata = {"render_modes": ["rgb_array"], "render_fps": 4}
@@ -205,7 +213,7 @@ class HouseEnv(gymnasium.Env):
         self.observation, self.predictor = observation, predictor
         self.refs = list(houses) if houses else [HouseRef(seed=0)]
         self.mode, self.settings, self.max_steps = mode, settings, int(max_steps)
-        self.stop_action, self.cache_dir, self.goal_rule = stop_action, cache_dir, goal_rule
+        self.stop_action, self.cache_dir, self.goal_rule = bool(stop_action), cache_dir, goal_rule
         self.targets = tuple(targets) if targets else None
         self.render_mode = render_mode
         h, w = settings.height, settings.width
@@ -324,7 +332,7 @@ class HouseEnv(gymnasium.Env):
                 start=graph.pose_of(start),
                 target=target,
                 goals=tuple(graph.pose_of(g) for g in goals),
-                min_steps=int(dist[start]),
+                min_steps=int(dist[start]) + self.stop_action,
             )
         raise RuntimeError("could not sample a task: no target with goal poses and starts in range")
 
@@ -345,15 +353,19 @@ class HouseEnv(gymnasium.Env):
         self._dist = self.steps_to(world, goal_ids)
         self._pose = self._start_pose = graph.pose_id(*task.start)
         self._collided = 0
-        if self._dist[self._pose] != task.min_steps:
-            raise ValueError(
-                f"task in {task.house} says {task.min_steps} minimal steps, the pose graph says {self._dist[self._pose]}"
+        moves = int(self._dist[self._pose])
+        if moves < 0 or moves + self.stop_action != task.min_steps:
+            stop = " and the STOP" if self.stop_action else ""
+            found = (
+                "no goal pose is reachable" if moves < 0 else f"{moves + self.stop_action} (moves to the goal{stop})"
             )
+            raise ValueError(f"task in {task.house} says {task.min_steps} minimal steps, the pose graph says {found}")
         self._next = graph.next_pose
         self._target_id = CATEGORY_IDS[task.target]
         self._attach(world)
         self._steps, self._done = 0, False
-        return self._observe(), {**self._info(False), "camera": self.settings.intrinsics()}
+        rules = {"stop_action": STOP if self.stop_action else None, "goal_rule": self.goal_rule.to_json()}
+        return self._observe(), {**self._info(False), "camera": self.settings.intrinsics(), **rules}
 
     def step(self, action):
         """Take one action; returns (observation, reward, terminated, truncated, info).

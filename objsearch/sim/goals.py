@@ -10,6 +10,15 @@ Both are computed from frames of the goal camera, ``GOAL_CAMERA`` (independent o
 camera an agent uses, ``objsearch.sim.camera.AGENT_CAMERA``, although equal to it today),
 and suites store the resulting poses, so success never drifts with renderer or agent
 settings.
+
+A protocol (``PROTOCOLS``) is the whole success rule of an episode: the kind of goal rule,
+whether the agent must call STOP at a goal pose, and the step limit. ``paper`` (the paper's,
+every suite before ``house-gen-v2-objectnav``): ``top_area`` goal poses, the episode ends
+by itself when the agent reaches one, 1000 steps. ``objectnav`` (Habitat's ObjectNav
+challenge): ``near_visible`` goal poses (at least 20 target pixels of the 64 x 64 goal
+camera within 1 m), success only when the agent calls STOP at one (STOP elsewhere ends the
+episode as a failure), 500 steps. A suite file records its protocol (``protocol``; absent:
+``paper``).
 """
 
 from __future__ import annotations
@@ -70,3 +79,27 @@ def goal_poses(semantic: np.ndarray, depth: np.ndarray, category_id: int, rule: 
         return np.flatnonzero(area >= threshold)
     near = (hits & (depth <= rule.max_distance)).reshape(len(hits), -1).sum(axis=1)
     return np.flatnonzero(near >= rule.min_pixels)
+
+
+@dataclass(frozen=True)
+class Protocol:
+    """How a house episode succeeds and ends.
+
+    Attributes:
+        name: ``paper`` or ``objectnav``.
+        goal_rule: the rule that picks the goal poses (a suite file's rule has this kind).
+        stop: the agent must call STOP (``objsearch.sim.navgraph.STOP``) at a goal pose to
+            succeed; otherwise the episode ends by itself on reaching one.
+        max_steps: the step limit of the suites made for it.
+    """
+
+    name: str
+    goal_rule: GoalRule
+    stop: bool
+    max_steps: int
+
+
+PROTOCOLS = {
+    "paper": Protocol("paper", DEFAULT_RULE, stop=False, max_steps=1000),
+    "objectnav": Protocol("objectnav", GoalRule(kind="near_visible"), stop=True, max_steps=500),
+}

@@ -5,13 +5,13 @@ suite make``). Reading them, and what the harness needs of them, is ``objsearch.
 Episodes: ``EPISODES_PER_SPLIT`` per split, house and target drawn uniformly, the start
 uniformly among poses 6 to 40 minimal steps from the nearest goal pose (``START_STEPS``);
 a new shipped suite is a name in ``objsearch.sim.suites.SUITE_NAMES``, its branch in
-``build_suite`` and its file.
+``build_suite`` and its file. Under the ObjectNav protocol (``objsearch.sim.goals.PROTOCOLS``)
+goal poses come from its rule, ``min_steps`` counts the STOP and episodes have its step limit;
+``objectnav_suite`` makes a paper-protocol suite's episodes into such a suite.
 """
 
 from __future__ import annotations
 
-import hashlib
-import json
 import os
 from pathlib import Path
 
@@ -20,9 +20,18 @@ import numpy as np
 from objsearch.errors import UserError
 from objsearch.house.categories import CATEGORY_IDS, FIRST_OBJECT_ID
 from objsearch.sim.env import START_STEPS, STARTS, draw_start, entrance_poses
-from objsearch.sim.goals import DEFAULT_RULE, GOAL_CAMERA, goal_poses
+from objsearch.sim.goals import GOAL_CAMERA, PROTOCOLS, GoalRule, Protocol, goal_poses
 from objsearch.sim.navgraph import NAVGRAPH_VERSION
-from objsearch.sim.suites import MAX_STEPS, SUITE_GENERATORS, SUITE_NAMES, SUITE_PROTOCOLS, load_house
+from objsearch.sim.suite_schema import content_digest
+from objsearch.sim.suites import (
+    OBJECTNAV_SUITES,
+    SUITE_GENERATORS,
+    SUITE_NAMES,
+    SUITE_RECIPES,
+    load_house,
+    load_houses,
+    load_suite_file,
+)
 from objsearch.sim.world import HouseRef, World
 
 HOUSE_SINGLE_TARGETS = 12  # house-single's target categories (6 seen, 6 unseen)
@@ -63,27 +72,40 @@ TARGETS = (
 )
 
 
-def _goal_table(world: World, targets, cache_dir) -> dict[str, list]:
+def _goal_ids(world: World, targets, cache_dir, rule: GoalRule) -> dict[str, np.ndarray]:
+    """The goal pose ids of each of ``targets`` the house has goal poses for, by ``rule``
+    (rendering the goal camera's cache)."""
     from objsearch.sim.cache import HouseCache
 
     cache = HouseCache.open(world, GOAL_CAMERA, cache_dir)
     semantic, depth = np.asarray(cache.semantic), np.asarray(cache.depth)
+    found = {target: goal_poses(semantic, depth, CATEGORY_IDS[target], rule) for target in targets}
+    return {target: ids for target, ids in found.items() if len(ids)}
+
+
+def _goal_table(world: World, targets, cache_dir, rule: GoalRule = PROTOCOLS["paper"].goal_rule) -> dict[str, list]:
+    """The goal poses by ``rule`` of each of ``targets`` with a pose ``START_STEPS`` from them."""
     graph = world.graph
     table = {}
-    for target in targets:
-        goals = goal_poses(semantic, depth, CATEGORY_IDS[target], DEFAULT_RULE)
-        dist = graph.shortest_steps(goals) if len(goals) else None
-        if dist is not None and ((dist >= START_STEPS[0]) & (dist <= START_STEPS[1])).any():
+    for target, goals in _goal_ids(world, targets, cache_dir, rule).items():
+        dist = graph.shortest_steps(goals)
+        if ((dist >= START_STEPS[0]) & (dist <= START_STEPS[1])).any():
             table[target] = [list(graph.pose_of(int(g))) for g in goals]
     return table
 
 
 def _episodes(
-    worlds: dict[str, World], goals: dict, targets: list[str], count: int, rng, starts: str = "anywhere"
+    worlds: dict[str, World],
+    goals: dict,
+    targets: list[str],
+    count: int,
+    rng,
+    starts: str = "anywhere",
+    stop: bool = False,
 ) -> list[dict]:
     """``count`` episodes: house and target drawn uniformly (again while the house lacks the
     target, or, with ``starts="entrance"``, while ``draw_start`` finds no start near its
-    entrance), the start by ``draw_start``."""
+    entrance), the start by ``draw_start``; ``min_steps`` counts the STOP with ``stop``."""
     names = sorted(worlds)
     near = {house: entrance_poses(world) for house, world in worlds.items()} if starts == "entrance" else {}
 
@@ -110,7 +132,12 @@ def _episodes(
         if start is None:
             continue
         out.append(
-            {"house": house, "start": list(graph.pose_of(start)), "target": target, "min_steps": int(dist[start])}
+            {
+                "house": house,
+                "start": list(graph.pose_of(start)),
+                "target": target,
+                "min_steps": int(dist[start]) + stop,
+            }
         )
     return out
 
@@ -137,32 +164,78 @@ def _found_in_half(goals: dict, house_ids: list[str]) -> list[str]:
 
 
 def _suite_record(
-    name: str, version: str, categories: dict, houses: dict, training: dict, goals: dict, splits: dict
+    name: str,
+    version: str | None,
+    categories: dict,
+    houses: dict,
+    training: dict,
+    goals: dict,
+    splits: dict,
+    protocol: Protocol = PROTOCOLS["paper"],
+    starts: str = "anywhere",
 ) -> dict:
-    """A suite file's content: the given parts and the settings every suite records."""
-    return {
+    """A suite file's content: the given parts and the settings every suite records, those of
+    ``protocol`` among them. The protocol's name and ``starts`` are recorded only when not the
+    defaults (``paper``, ``anywhere``), so that other files keep their bytes. ``version``
+    None: ``custom:`` and the content's digest."""
+    record = {
         "suite": name,
         "version": version,
+        **({"protocol": protocol.name} if protocol.name != "paper" else {}),
         "navgraph": NAVGRAPH_VERSION,
-        "goal_rule": DEFAULT_RULE.to_json(),
+        "goal_rule": protocol.goal_rule.to_json(),
         "goal_camera": GOAL_CAMERA.to_json(),
         "start_steps": list(START_STEPS),
-        "max_steps": MAX_STEPS,
+        "max_steps": protocol.max_steps,
         "categories": categories,
         "houses": houses,
         "training_houses": training,
         "goals": goals,
         "splits": splits,
+        **({"starts": starts} if starts != "anywhere" else {}),
     }
+    if version is None:
+        record["version"] = f"custom:{content_digest(record)[:12]}"
+    return record
+
+
+def objectnav_suite(name: str, paper: dict, cache_dir: str | None = None) -> dict:
+    """The suite ``name``: the paper-protocol suite ``paper`` (its file's content) under the
+    ObjectNav protocol. The same houses, categories, splits and starts; goal poses by the
+    ObjectNav rule for the same houses and targets; the episodes whose start reaches one of
+    them (in the same order), ``min_steps`` counted again with the STOP."""
+    protocol = PROTOCOLS["objectnav"]
+    worlds = load_houses(paper)
+    goals, ids = {}, {}
+    for house, table in paper["goals"].items():
+        ids[house] = _goal_ids(worlds[house], sorted(table), cache_dir, protocol.goal_rule)
+        goals[house] = {
+            t: [list(worlds[house].graph.pose_of(int(g))) for g in found] for t, found in ids[house].items()
+        }
+    splits = {}
+    for split, items in paper["splits"].items():
+        splits[split] = []
+        for item in items:
+            if item["target"] not in ids[item["house"]]:
+                continue
+            graph = worlds[item["house"]].graph
+            moves = int(graph.shortest_steps(ids[item["house"]][item["target"]])[graph.pose_id(*item["start"])])
+            if moves >= 0:
+                splits[split].append({**item, "min_steps": moves + protocol.stop})
+    return _suite_record(
+        name, f"{name}-v1", paper["categories"], paper["houses"], paper["training_houses"], goals, splits, protocol
+    )
 
 
 def build_suite(name: str, cache_dir: str | None = None) -> dict:
     """Build a suite from its fixed seeds (renders every pose of its evaluation houses)."""
     if name not in SUITE_NAMES:
         raise UserError(f"unknown house suite {name!r}; known: {', '.join(SUITE_NAMES)}")
+    if name in OBJECTNAV_SUITES:
+        return objectnav_suite(name, load_suite_file(OBJECTNAV_SUITES[name]), cache_dir)
     rng = np.random.default_rng([SUITE_SEED, SUITE_NAMES.index(name)])
-    gen, protocol = SUITE_GENERATORS.get(name), SUITE_PROTOCOLS.get(name, name)
-    if protocol == "house-single":
+    gen, recipe = SUITE_GENERATORS.get(name), SUITE_RECIPES.get(name, name)
+    if recipe == "house-single":
         candidates = {s: World.load(HouseRef(seed=s, size_class="medium", generator=gen)) for s in range(10)}
 
         def present(s):
@@ -180,7 +253,7 @@ def build_suite(name: str, cache_dir: str | None = None) -> dict:
             )
         eval_refs = {"eval": [HouseRef(seed=seed, size_class="medium", generator=gen)]}
         train_refs: list[HouseRef] = []
-    elif protocol == "house-multi":
+    elif recipe == "house-multi":
         eval_refs = {
             "seen-envs": [HouseRef(seed=s, size_class="medium", generator=gen) for s in (100, 101, 102, 103)],
             "unseen-envs": [HouseRef(seed=s, size_class="medium", generator=gen) for s in (200, 201, 202, 203)],
@@ -209,7 +282,7 @@ def build_suite(name: str, cache_dir: str | None = None) -> dict:
         return sorted(set.intersection(*sets))
 
     splits, categories = {}, {}
-    if protocol == "house-single":
+    if recipe == "house-single":
         (world,) = worlds["eval"]
         usable = common([world])
         picked = [usable[i] for i in sorted(rng.choice(len(usable), size=HOUSE_SINGLE_TARGETS, replace=False))]
@@ -218,7 +291,7 @@ def build_suite(name: str, cache_dir: str | None = None) -> dict:
         by_id = {world.house_id: world}
         splits["seen-goals"] = _episodes(by_id, goals, categories["seen"], EPISODES_PER_SPLIT, rng)
         splits["unseen-goals"] = _episodes(by_id, goals, categories["unseen"], EPISODES_PER_SPLIT, rng)
-    elif protocol == "house-multi":
+    elif recipe == "house-multi":
         usable = common(worlds["seen-envs"] + worlds["unseen-envs"])
         if len(usable) < 6:
             raise RuntimeError(f"only {len(usable)} targets common to all {name} houses: {usable}")
@@ -251,6 +324,7 @@ def suite_from_houses(
     seed: int = 0,
     cache_dir: str | None = None,
     starts: str = "anywhere",
+    protocol: str = "paper",
 ) -> dict:
     """The suite file to write at ``out`` for the houses under ``houses_dir`` (the folders
     ``objsearch generate --out`` writes), made as ``build_suite`` makes the shipped ones: goal
@@ -263,9 +337,16 @@ def suite_from_houses(
 
     ``starts``: ``anywhere`` (default), or ``entrance``: every start is drawn near the house's
     entrance (``objsearch.sim.env.draw_start``; the file then records ``"starts": "entrance"``);
-    a house without an entrance (``house-gen-1``) is a ``UserError`` before anything is rendered."""
+    a house without an entrance (``house-gen-1``) is a ``UserError`` before anything is rendered.
+
+    ``protocol``: ``paper`` (default) or ``objectnav`` (``objsearch.sim.goals.PROTOCOLS``): its
+    goal rule picks the goal poses, its step limit is the file's, and under ``objectnav``
+    ``min_steps`` counts the STOP; the file records it (only when not ``paper``)."""
     if starts not in STARTS:
         raise UserError(f"unknown starts {starts!r}; use one of {', '.join(STARTS)}")
+    if protocol not in PROTOCOLS:
+        raise UserError(f"unknown protocol {protocol!r}; use one of {', '.join(PROTOCOLS)}")
+    rules = PROTOCOLS[protocol]
     root, base = Path(houses_dir), Path(out).resolve().parent
     wanted = _check_targets(targets) if targets else list(TARGETS)
     worlds, houses, folders = {}, {}, {}
@@ -281,7 +362,7 @@ def suite_from_houses(
         houses[world.house_id] = house_entry(world, HouseRef(path=stored))
         if starts == "entrance":
             entrance_poses(world)  # a house without an entrance: UserError now, not after rendering
-    tables = {house: _goal_table(world, wanted, cache_dir) for house, world in worlds.items()}
+    tables = {house: _goal_table(world, wanted, cache_dir, rules.goal_rule) for house, world in worlds.items()}
     if targets:
         for target in wanted:
             if not any(target in table for table in tables.values()):
@@ -297,13 +378,9 @@ def suite_from_houses(
                 "name the targets with --targets"
             )
     goals = {house: {t: poses for t, poses in table.items() if t in wanted} for house, table in tables.items()}
-    splits = {Path(out).stem: _episodes(worlds, goals, wanted, episodes, np.random.default_rng(seed), starts)}
-    spec_hashes = {house: entry["spec_sha256"] for house, entry in houses.items()}
-    digest = hashlib.sha256(json.dumps([spec_hashes, goals, splits], sort_keys=True).encode()).hexdigest()[:12]
-    suite = _suite_record(Path(out).stem, f"custom:{digest}", {"targets": wanted}, houses, {}, goals, splits)
-    if starts != "anywhere":  # recorded only when not the default, so other files keep their bytes
-        suite["starts"] = starts
-    return suite
+    rng = np.random.default_rng(seed)
+    splits = {Path(out).stem: _episodes(worlds, goals, wanted, episodes, rng, starts, rules.stop)}
+    return _suite_record(Path(out).stem, None, {"targets": wanted}, houses, {}, goals, splits, rules, starts)
 
 
 def house_folders(root: Path) -> list[Path]:

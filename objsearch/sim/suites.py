@@ -17,9 +17,15 @@ regenerates the houses and refuses to run if a hash differs.
 * ``house-gen-v2``: ``house-gen`` made again with the generator ``house-gen-2`` (circulation
   through a public core, rooms of real sizes, an entrance; the same seeds, splits and rule
   for targets). ``house-gen`` stays, since the shipped agents were trained and measured on it.
+* ``house-gen-v2-objectnav``: ``house-gen-v2``'s houses, targets, splits and starts under the
+  ObjectNav protocol (``objsearch.sim.goals.PROTOCOLS``): goal poses by the ``near_visible``
+  rule, success only on STOP at one, 500 steps. Its episodes are ``house-gen-v2``'s whose
+  start reaches a goal pose under that rule, with ``min_steps`` counted again (the STOP
+  included).
 
 Episodes: 100 per split, house and target drawn uniformly, the start uniformly among poses
-6 to 40 minimal steps from the nearest goal pose (``START_STEPS``); 1000 steps at most.
+6 to 40 minimal steps from the nearest goal pose (``START_STEPS``); 1000 steps at most (the
+paper's protocol).
 Rebuild (deliberately; bump the version): ``objsearch suite rebuild NAME``. How the files
 are built, the shipped ones and users' own: ``objsearch.sim.suite_build``.
 
@@ -30,39 +36,72 @@ its branch in ``suite_build.build_suite`` and its file.
 A user's own houses (folders written by ``objsearch generate``) make a suite file with
 ``objsearch suite make`` (``suite_build.suite_from_houses``): the same fields, with each
 house recorded by its folder (a path relative to the suite file) and spec hash.
-``load_suite_file`` takes a shipped suite's name or such a file's path; ``load_house``
-refuses a house folder that is missing, does not load, or no longer matches its spec or the
-suite, naming the house.
+``load_suite_file`` takes a shipped suite's name or such a file's path and checks it field
+by field (``objsearch.sim.suite_schema``); ``load_house`` refuses a house folder that is
+missing, does not load, or no longer matches its spec or the suite, naming the house.
+
+A suite's version is computed from its content (``suite_version``): a shipped file's
+``version`` holds only while its content has the digest recorded here (``SUITE_DIGESTS``);
+a made file's version is ``custom:`` and its digest, whatever its ``version`` field says (a
+field a hand edit left stale is reported).
 """
 
 from __future__ import annotations
 
 import json
 import os
+import sys
 from functools import lru_cache
 from pathlib import Path
 
 from objsearch.errors import UserError
 from objsearch.fileio import write_json
 from objsearch.sim.env import HouseTask
+from objsearch.sim.goals import PROTOCOLS, Protocol
 from objsearch.sim.world import HouseRef, World
 
 DATA_DIR = Path(__file__).parent / "data"
 # The shipped house suites, in this order for good: a suite's index seeds its builder.
-SUITE_NAMES = ("house-single", "house-multi", "house-gen", "house-gen-v2", "house-single-v2", "house-multi-v2")
+SUITE_NAMES = (
+    "house-single",
+    "house-multi",
+    "house-gen",
+    "house-gen-v2",
+    "house-single-v2",
+    "house-multi-v2",
+    "house-gen-v2-objectnav",
+)
 # The generator of each suite's houses (None: house-gen-1).
-SUITE_GENERATORS = {"house-gen-v2": "house-gen-2", "house-single-v2": "house-gen-2", "house-multi-v2": "house-gen-2"}
-# The protocol (the suite of house-gen-1 houses) each suite follows.
-SUITE_PROTOCOLS = {"house-gen-v2": "house-gen", "house-single-v2": "house-single", "house-multi-v2": "house-multi"}
-MAX_STEPS = 1000
-# The fields the harness reads from a suite file.
-SUITE_FILE_KEYS = ("version", "max_steps", "categories", "houses", "training_houses", "goals", "splits")
+SUITE_GENERATORS = {
+    "house-gen-v2": "house-gen-2",
+    "house-single-v2": "house-gen-2",
+    "house-multi-v2": "house-gen-2",
+    "house-gen-v2-objectnav": "house-gen-2",
+}
+# The recipe (the suite of house-gen-1 houses made the same way) each suite follows.
+SUITE_RECIPES = {"house-gen-v2": "house-gen", "house-single-v2": "house-single", "house-multi-v2": "house-multi"}
+# The suites of the ObjectNav protocol made from a paper-protocol suite's episodes: name -> that suite.
+OBJECTNAV_SUITES = {"house-gen-v2-objectnav": "house-gen-v2"}
+# sha256 of each shipped file's content (``suite_schema.content_digest``): its version holds only for
+# this content. A deliberate rebuild (objsearch suite rebuild NAME prints it) bumps the version and this.
+SUITE_DIGESTS = {
+    "house-single": "1abc146b5673fa9ddeb5d0b77908b4820fe7259d2115971bff83c52c261eac79",
+    "house-multi": "d6222bc5441477d581ac67717740d9aa16d311911f0ef38412efd96d227f015f",
+    "house-gen": "335992bd0ec90820bca3fd0120e2bd667088ede69ab5bee1ecb295d53ab058ea",
+    "house-gen-v2": "e5e22e620fb28c5d268eecdc32ca9a1d3ae1ea7fc6179f4b6c9f129d7b72049d",
+    "house-single-v2": "80465c6e4a57889848fc7d139e6bd952e4fc2300ebddf639d3f719c1bb1344f0",
+    "house-multi-v2": "c01ede47b5dfb495dbbcf5efcca919725c73f36cd2307cd20b4d93c7f6ddf91a",
+    "house-gen-v2-objectnav": "25b4286254cd944724b7b5dbca81adfbbe02d1aeb24f2ad73401e99438d96adf",
+}
+MADE_FIX = "correct it, or make the file again with objsearch suite make"
 
 
 def load_suite_file(name: str) -> dict:
     """The suite file of a shipped house suite (a name of ``SUITE_NAMES``), or the one at the
-    path ``name`` (``*.json``, made by ``objsearch suite make``) with its house folders
-    resolved against the file's folder."""
+    path ``name`` (``*.json``, made by ``objsearch suite make``) checked field by field
+    (``suite_schema.check_suite_file``), its ``version`` the one its content gives
+    (``suite_version``) and its house folders resolved against the file's folder. A bad file
+    is a ``UserError`` naming the field and the fix."""
     if name in SUITE_NAMES:
         return _shipped_suite_file(name)
     if not name.endswith(".json"):
@@ -79,14 +118,20 @@ def load_suite_file(name: str) -> dict:
         ) from None
     except OSError as err:
         raise UserError(f"cannot read suite file {path}: {err.strerror}") from None
-    except json.JSONDecodeError as err:
+    except (json.JSONDecodeError, UnicodeDecodeError) as err:
         raise UserError(f"suite file {path} is not JSON ({err}); remake it with objsearch suite make") from None
-    missing = [key for key in SUITE_FILE_KEYS if not isinstance(data, dict) or key not in data]
-    if missing:
-        raise UserError(f"{path} is not a suite file (no {', '.join(missing)}); make one with objsearch suite make")
-    for info in data["houses"].values():
-        if "path" in info:
-            info["path"] = os.path.abspath(path.parent / info["path"])
+    except RecursionError:
+        raise UserError(
+            f"suite file {path} nests too deep to be a suite file; remake it with objsearch suite make"
+        ) from None
+    from objsearch.sim.suite_schema import check_suite_file
+
+    check_suite_file(data, str(path), MADE_FIX)
+    data["version"] = suite_version(data, str(path))
+    for group in ("houses", "training_houses"):
+        for info in data[group].values():
+            if "path" in info:
+                info["path"] = os.path.abspath(path.parent / info["path"])
     return data
 
 
@@ -95,7 +140,46 @@ def _shipped_suite_file(name: str) -> dict:
     path = DATA_DIR / f"{name}.json"
     if not path.exists():
         raise UserError(f"suite file {path} is missing; rebuild it with objsearch suite rebuild {name}")
-    return json.loads(path.read_text())
+    data = json.loads(path.read_text())
+    suite_version(data, str(path), name)
+    return data
+
+
+_REPORTED: set[tuple[str, str]] = set()  # (file, version) whose stale version field was reported
+
+
+def suite_version(data: dict, source: str, shipped: str | None = None) -> str:
+    """The version of the suite file content ``data`` (read from ``source``): for the shipped
+    suite ``shipped``, its ``version`` field, which holds only while the content has the
+    digest recorded in ``SUITE_DIGESTS`` (else ``UserError``: the package's file was edited);
+    for any other file ``custom:`` and the first 12 hex digits of its digest
+    (``suite_schema.content_digest``). A ``version`` field that differs (a hand edit left it
+    stale) is reported once on stderr."""
+    from objsearch.sim.suite_schema import content_digest
+
+    digest = content_digest(data)
+    if shipped is not None:
+        if digest != SUITE_DIGESTS[shipped]:
+            raise UserError(
+                f"suite file {source} was edited: its content digest is {digest[:12]}, but {data.get('version')} is "
+                f"{SUITE_DIGESTS[shipped][:12]}; restore it (reinstall objsearch), or rebuild it deliberately "
+                f"(objsearch suite rebuild {shipped}) with a new version and its digest in SUITE_DIGESTS"
+            )
+        return data["version"]
+    version = f"custom:{digest[:12]}"
+    if data["version"] != version and (source, data["version"]) not in _REPORTED:
+        _REPORTED.add((source, data["version"]))
+        print(
+            f"warning: suite file {source} changed after objsearch suite make wrote it (its version field says "
+            f"{data['version']}, its content is {version}): results record {version}",
+            file=sys.stderr,
+        )
+    return version
+
+
+def suite_protocol(data: dict) -> Protocol:
+    """The protocol of a suite file's content (``paper`` where the file has no ``protocol``)."""
+    return PROTOCOLS[data.get("protocol", "paper")]
 
 
 def write_suite_file(path: str | os.PathLike, suite: dict) -> None:

@@ -3,67 +3,10 @@ on two small generated houses, and the one-line errors for bad houses."""
 
 import json
 import shutil
-import subprocess
-import sys
 from pathlib import Path
 
 import pytest
-
-BIN = Path(sys.executable).parent
-
-
-def run(*args, cwd=None):
-    return subprocess.run([str(BIN / args[0]), *args[1:]], capture_output=True, text=True, cwd=cwd, timeout=300)
-
-
-def assert_clean_error(out, *needles):
-    assert out.returncode == 2, (out.returncode, out.stderr)
-    lines = out.stderr.strip().splitlines()
-    assert len(lines) == 1 and "Traceback" not in out.stderr, out.stderr
-    for needle in needles:
-        assert needle in lines[0], (needle, lines[0])
-
-
-@pytest.fixture(scope="module")
-def made(tmp_path_factory, cache_dir):
-    """``work/houses/`` (two small houses, as objsearch generate writes them) and
-    ``work/my-suite.json`` made from them."""
-    work = tmp_path_factory.mktemp("own-houses")
-    out = run(
-        "objsearch",
-        "generate",
-        "--seed",
-        "3",
-        "--num",
-        "2",
-        "--rooms",
-        "small",
-        "--no-preview",
-        "--quiet",
-        "--out",
-        "houses",
-        cwd=work,
-    )
-    assert out.returncode == 0, out.stderr
-    out = run(
-        "objsearch",
-        "suite",
-        "make",
-        "--houses",
-        "houses",
-        "--out",
-        "my-suite.json",
-        "--episodes",
-        "20",
-        "--seed",
-        "1",
-        "--cache-dir",
-        cache_dir,
-        cwd=work,
-    )
-    assert out.returncode == 0, out.stderr
-    assert "objsearch-eval --suite my-suite.json" in out.stderr
-    return work
+from own_houses import assert_clean_error, run
 
 
 def test_the_suite_file_is_made_as_the_shipped_ones_and_is_deterministic(made, cache_dir):

@@ -15,6 +15,10 @@ SHIPPED = {
     "house-gen-v2": ("house-gen-v2-v1", "c62052da5878932444d6cc157f886bbc19333a77f595b7b3217f4c0bfd6d0cc0"),
     "house-single-v2": ("house-single-v2-v1", "513ac949cae07a96199bb516cd305ee9246cb0239f8cf4187a1848e5761cfa54"),
     "house-multi-v2": ("house-multi-v2-v1", "f683105358252d0a702ebcab822633c55583bdd69361bd38b53f75102150655f"),
+    "house-gen-v2-objectnav": (
+        "house-gen-v2-objectnav-v1",
+        "665e23e97971f5bba1a0ee516cab796c4ed315cd92a6ae0f46a964919118b058",
+    ),
 }
 
 

@@ -10,6 +10,9 @@ and the shipped house suites, whose names are declared with their builders
 A suite class provides:
 
 * ``world``: ``gridworld`` or ``house``, the world agents declare they run in;
+* ``protocol``: how an episode succeeds, ``paper`` (it ends by itself on reaching the goal)
+  or ``objectnav`` (the agent must call STOP at the goal; ``objsearch.sim.goals.PROTOCOLS``),
+  recorded in results; the leaderboard ranks a suite's entries, so never two protocols together;
 * ``options``: the names of the config it accepts (``make_suite(name, **config)`` refuses
   others; the CLI's suite flags are checked against them);
 * ``__init__(name, **config)``; ``name``, ``episode_set_version`` and ``splits`` (names,
@@ -52,6 +55,18 @@ def suite_world(name: str) -> str:
     """The world a suite's episodes play in, ``gridworld`` or ``house``: its class's
     ``world`` (agents declare the worlds they run in with ``worlds()``)."""
     return suite_class(name).world
+
+
+def suite_protocol(name: str) -> str:
+    """How a suite's episodes succeed, ``paper`` or ``objectnav`` (its class's ``protocol``;
+    a house suite's is its file's), without building the suite."""
+    cls = suite_class(name)
+    if cls.world != "house":
+        return cls.protocol
+    from objsearch.sim.suites import load_suite_file
+    from objsearch.sim.suites import suite_protocol as file_protocol
+
+    return file_protocol(load_suite_file(name)).name
 
 
 @dataclass(frozen=True)

@@ -3,15 +3,18 @@ shipped house suite's file.
 
   objsearch suite list
   objsearch suite make --houses DIR --out my-suite.json [--targets a,b] [--episodes N] [--seed S]
-                       [--starts anywhere|entrance]
+                       [--starts anywhere|entrance] [--protocol paper|objectnav]
   objsearch suite rebuild NAME [NAME ...]
 
 ``make`` takes the folders that ``objsearch generate --out DIR`` writes and makes a suite
 file as the shipped ones are made (goal poses, starts, spec hashes); ``objsearch-eval
 --suite my-suite.json`` evaluates on it. The file names each house by its folder relative
 to the file, so keep the file and the houses where they are, or move them together.
+``--protocol objectnav`` makes a suite of the ObjectNav protocol: goal poses within 1 m of a
+visible target, success only when the agent calls STOP at one, 500 steps.
 ``rebuild`` overwrites ``objsearch/sim/data/NAME.json`` (deliberately: bump the suite's
-version); it renders every pose of the suite's evaluation houses (minutes).
+version, and its digest in ``objsearch.sim.suites.SUITE_DIGESTS``, which it prints); it renders
+every pose of the suite's evaluation houses (minutes).
 """
 
 from __future__ import annotations
@@ -26,6 +29,7 @@ from objsearch.errors import UserError
 def add_parser(subparsers) -> None:
     """Add ``objsearch suite`` (list, make, rebuild) to ``subparsers``."""
     from objsearch.sim.env import STARTS
+    from objsearch.sim.goals import PROTOCOLS
     from objsearch.sim.suite_build import EPISODES_PER_SPLIT
     from objsearch.sim.suites import SUITE_NAMES
 
@@ -64,6 +68,13 @@ def add_parser(subparsers) -> None:
         default="anywhere",
         help="where episodes start: anywhere 6-40 steps from the goal (default), or near the house's "
         "entrance (house-gen-2 houses)",
+    )
+    make.add_argument(
+        "--protocol",
+        choices=PROTOCOLS,
+        default="paper",
+        help="how an episode succeeds: paper (the episode ends on reaching one of the views the target fills "
+        "most; 1000 steps; default) or objectnav (the agent calls STOP within 1 m of a visible target; 500 steps)",
     )
     make.add_argument(
         "--cache-dir",
@@ -110,13 +121,14 @@ def run_make(args: argparse.Namespace) -> int:
             f"--out {args.out}: a suite file's name ends in .json (objsearch-eval --suite tells it by that)"
         )
     suite = suite_from_houses(
-        args.houses, args.out, args.targets, args.episodes, args.seed, args.cache_dir, args.starts
+        args.houses, args.out, args.targets, args.episodes, args.seed, args.cache_dir, args.starts, args.protocol
     )
     write_suite_file(args.out, suite)
     ((split, episodes),) = suite["splits"].items()
     print(
         f"wrote {args.out}: {len(suite['houses'])} houses, targets {', '.join(suite['categories']['targets'])}; "
-        f"split {split} of {len(episodes)} episodes. Evaluate with: objsearch-eval --suite {args.out}",
+        f"split {split} of {len(episodes)} episodes, protocol {args.protocol}. "
+        f"Evaluate with: objsearch-eval --suite {args.out}",
         file=sys.stderr,
     )
     return 0
@@ -125,10 +137,12 @@ def run_make(args: argparse.Namespace) -> int:
 def run_rebuild(args: argparse.Namespace) -> int:
     """``objsearch suite rebuild``: rebuild the named shipped suite files under ``objsearch/sim/data``."""
     from objsearch.sim.suite_build import build_suite
+    from objsearch.sim.suite_schema import content_digest
     from objsearch.sim.suites import DATA_DIR, write_suite_file
 
     for name in args.names:
         path = DATA_DIR / f"{name}.json"
-        write_suite_file(path, build_suite(name, args.cache_dir))
-        print(f"wrote {path}")
+        suite = build_suite(name, args.cache_dir)
+        write_suite_file(path, suite)
+        print(f"wrote {path} (version {suite['version']}, content digest {content_digest(suite)}: SUITE_DIGESTS)")
     return 0

@@ -52,6 +52,7 @@ class GridWorldSuite:
     """
 
     world = "gridworld"
+    protocol = "paper"  # an episode ends by itself on reaching the goal
     options = ("maps", "tasks", "max_steps")
 
     def __init__(

@@ -9,6 +9,12 @@ files (chosen through ``objsearch.sim.goals.GOAL_CAMERA``). With ``observation="
 the agent's ``semantic`` and ``depth`` are the perception network's predictions
 (``perception``: a checkpoint, default the shipped one, trained on the agent camera's
 frames), as in the paper; success is still judged on the ground truth.
+
+A suite's ``protocol`` (its file's, ``objsearch.sim.goals.PROTOCOLS``) says how its episodes
+succeed: ``paper``, on reaching a goal pose, or ``objectnav``, on calling STOP at one (the
+env's ``stop_action``; agents read ``task.stop_action`` and ``task.goal_rule``). A suite
+file's poses are checked on its houses' pose graphs when the houses load
+(``objsearch.sim.suite_schema.check_poses``; a shipped file's content is fixed by its digest).
 """
 
 from __future__ import annotations
@@ -21,22 +27,27 @@ from objsearch.eval.suites import Episode
 from objsearch.house.categories import CATEGORY_IDS
 from objsearch.sim.camera import AGENT_CAMERA, check_predictor_camera
 from objsearch.sim.env import MODES, OBSERVATIONS, HouseEnv, HouseTask
-from objsearch.sim.navgraph import PoseGraph
-from objsearch.sim.suites import episode_task, load_houses, load_suite_file
+from objsearch.sim.goals import GoalRule
+from objsearch.sim.navgraph import STOP, PoseGraph
+from objsearch.sim.suites import MADE_FIX, SUITE_NAMES, episode_task, load_houses, load_suite_file, suite_protocol
 from objsearch.sim.world import World
 
 
 @dataclass(frozen=True)
 class HousePath:
-    """The oracle's view of a house episode: the pose graph and the goal poses."""
+    """The oracle's view of a house episode: the pose graph, the goal poses, and whether
+    success needs STOP."""
 
     graph: PoseGraph
     task: HouseTask
+    stop: bool = False
 
     def shortest_path(self) -> list[int]:
-        """A shortest action sequence from the task's start pose to its nearest goal pose."""
+        """A shortest action sequence from the task's start pose to success: to its nearest
+        goal pose, and STOP there where the protocol requires it."""
         g = self.graph
-        return g.shortest_path(g.pose_id(*self.task.start), [g.pose_id(*p) for p in self.task.goals])
+        moves = g.shortest_path(g.pose_id(*self.task.start), [g.pose_id(*p) for p in self.task.goals])
+        return moves + [STOP] * self.stop
 
 
 class HouseSuite:
@@ -66,6 +77,7 @@ class HouseSuite:
         if observation != "predicted" and (perception or perception_key):
             raise UserError("a perception checkpoint applies to predicted observations only (--observation predicted)")
         self.name, self.data = name, load_suite_file(name)
+        self.protocol = suite_protocol(self.data).name
         self.mode, self.cache_dir = mode, cache_dir
         self.max_steps = int(max_steps or self.data["max_steps"])
         self.episode_set_version = self.data["version"]
@@ -93,8 +105,14 @@ class HouseSuite:
 
     @cached_property
     def worlds(self) -> dict[str, World]:
-        """The suite's houses by house id, loaded (or regenerated) on first use."""
-        return load_houses(self.data)
+        """The suite's houses by house id, loaded (or regenerated) on first use; a suite file's
+        poses are checked on them (``check_poses``)."""
+        worlds = load_houses(self.data)
+        if self.name not in SUITE_NAMES:
+            from objsearch.sim.suite_schema import check_poses
+
+            check_poses(self.data, worlds, self.name, MADE_FIX)
+        return worlds
 
     def episodes(self, split: str) -> list[Episode]:
         """The fixed episodes of ``split``, in the suite file's order (ids 0, 1, ...)."""
@@ -109,18 +127,22 @@ class HouseSuite:
                     goal_name=task.target,
                     min_steps=task.min_steps,
                     describe=task.to_json(),
-                    privileged=HousePath(self.worlds[task.house].graph, task),
+                    privileged=HousePath(self.worlds[task.house].graph, task, suite_protocol(self.data).stop),
                 )
             )
         return out
 
     def make_env(self) -> HouseEnv:
-        """A ``HouseEnv`` over the suite's houses with its render mode, observation, camera and step limit."""
+        """A ``HouseEnv`` over the suite's houses with its render mode, observation, camera, step
+        limit and protocol (STOP, and the goal rule agents are told)."""
+        rule = {key: value for key, value in self.data["goal_rule"].items() if key != "version"}
         return HouseEnv(
             list(self.worlds.values()),
             mode=self.mode,
             settings=AGENT_CAMERA,
             max_steps=self.max_steps,
+            stop_action=suite_protocol(self.data).stop,
+            goal_rule=GoalRule(**rule),
             cache_dir=self.cache_dir,
             observation=self.observation,
             predictor=self.predictor,
