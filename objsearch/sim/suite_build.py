@@ -13,6 +13,7 @@ goal poses come from its rule, ``min_steps`` counts the STOP and episodes have i
 from __future__ import annotations
 
 import os
+from dataclasses import replace
 from pathlib import Path
 
 import numpy as np
@@ -25,6 +26,7 @@ from objsearch.sim.navgraph import NAVGRAPH_VERSION
 from objsearch.sim.suite_schema import content_digest
 from objsearch.sim.suites import (
     OBJECTNAV_SUITES,
+    SHUFFLED_SUITES,
     SUITE_GENERATORS,
     SUITE_NAMES,
     SUITE_RECIPES,
@@ -155,6 +157,8 @@ def house_entry(world: World, ref: HouseRef) -> dict:
     }
     if ref.generator is not None:  # left out for house-gen-1 houses, so v1 suite files keep their bytes
         entry["generator"] = ref.generator
+    if ref.placement is not None:  # left out for functional houses, so their suite files keep their bytes
+        entry["placement"] = ref.placement
     return entry
 
 
@@ -233,8 +237,9 @@ def build_suite(name: str, cache_dir: str | None = None) -> dict:
         raise UserError(f"unknown house suite {name!r}; known: {', '.join(SUITE_NAMES)}")
     if name in OBJECTNAV_SUITES:
         return objectnav_suite(name, load_suite_file(OBJECTNAV_SUITES[name]), cache_dir)
-    rng = np.random.default_rng([SUITE_SEED, SUITE_NAMES.index(name)])
-    gen, recipe = SUITE_GENERATORS.get(name), SUITE_RECIPES.get(name, name)
+    base = SHUFFLED_SUITES.get(name, name)  # a shuffled suite is made as its base suite, with its draws
+    rng = np.random.default_rng([SUITE_SEED, SUITE_NAMES.index(base)])
+    gen, recipe = SUITE_GENERATORS.get(base), SUITE_RECIPES.get(base, base)
     if recipe == "house-single":
         candidates = {s: World.load(HouseRef(seed=s, size_class="medium", generator=gen)) for s in range(10)}
 
@@ -265,6 +270,9 @@ def build_suite(name: str, cache_dir: str | None = None) -> dict:
             "val": [HouseRef(seed=s, split="test", generator=gen) for s in range(2000, 2010)],
             "test": [HouseRef(seed=s, split="test", generator=gen) for s in range(3000, 3010)],
         }
+    if name in SHUFFLED_SUITES:  # the same houses, their objects shuffled
+        eval_refs = {key: [replace(r, placement="shuffled") for r in refs] for key, refs in eval_refs.items()}
+        train_refs = [replace(r, placement="shuffled") for r in train_refs]
 
     worlds = {key: [World.load(r) for r in refs] for key, refs in eval_refs.items()}
     houses, goals = {}, {}

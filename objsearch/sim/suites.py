@@ -22,6 +22,11 @@ regenerates the houses and refuses to run if a hash differs.
   rule, success only on STOP at one, 500 steps. Its episodes are ``house-gen-v2``'s whose
   start reaches a goal pose under that rule, with ``min_steps`` counted again (the STOP
   included).
+* ``house-gen-v2-shuffled``: ``house-gen-v2``'s houses (training, validation and test, the
+  same seeds) with their objects shuffled (``objsearch.house.shuffle``: every object moved
+  to a random place anywhere in the house, ignoring groups and room priors), built as
+  ``house-gen-v2`` is (its draws: the same targets and splits, episodes drawn the same way).
+  What an agent loses here against ``house-gen-v2`` is what it owed to object relations.
 
 Episodes: 100 per split, house and target drawn uniformly, the start uniformly among poses
 6 to 40 minimal steps from the nearest goal pose (``START_STEPS``); 1000 steps at most (the
@@ -70,6 +75,7 @@ SUITE_NAMES = (
     "house-single-v2",
     "house-multi-v2",
     "house-gen-v2-objectnav",
+    "house-gen-v2-shuffled",
 )
 # The generator of each suite's houses (None: house-gen-1).
 SUITE_GENERATORS = {
@@ -77,11 +83,15 @@ SUITE_GENERATORS = {
     "house-single-v2": "house-gen-2",
     "house-multi-v2": "house-gen-2",
     "house-gen-v2-objectnav": "house-gen-2",
+    "house-gen-v2-shuffled": "house-gen-2",
 }
 # The recipe (the suite of house-gen-1 houses made the same way) each suite follows.
 SUITE_RECIPES = {"house-gen-v2": "house-gen", "house-single-v2": "house-single", "house-multi-v2": "house-multi"}
 # The suites of the ObjectNav protocol made from a paper-protocol suite's episodes: name -> that suite.
 OBJECTNAV_SUITES = {"house-gen-v2-objectnav": "house-gen-v2"}
+# The suites of shuffled houses (placement "shuffled") made as another suite is made, from its
+# seeds, categories and episode draws: name -> that suite.
+SHUFFLED_SUITES = {"house-gen-v2-shuffled": "house-gen-v2"}
 # sha256 of each shipped file's content (``suite_schema.content_digest``): its version holds only for
 # this content. A deliberate rebuild (objsearch suite rebuild NAME prints it) bumps the version and this.
 SUITE_DIGESTS = {
@@ -92,6 +102,7 @@ SUITE_DIGESTS = {
     "house-single-v2": "80465c6e4a57889848fc7d139e6bd952e4fc2300ebddf639d3f719c1bb1344f0",
     "house-multi-v2": "c01ede47b5dfb495dbbcf5efcca919725c73f36cd2307cd20b4d93c7f6ddf91a",
     "house-gen-v2-objectnav": "25b4286254cd944724b7b5dbca81adfbbe02d1aeb24f2ad73401e99438d96adf",
+    "house-gen-v2-shuffled": "bda0dace56ff67a72911170bafb7680ff46ea100ec1a417831680d927d2329e0",
 }
 MADE_FIX = "correct it, or make the file again with objsearch suite make"
 

@@ -19,6 +19,10 @@ SHIPPED = {
         "house-gen-v2-objectnav-v1",
         "665e23e97971f5bba1a0ee516cab796c4ed315cd92a6ae0f46a964919118b058",
     ),
+    "house-gen-v2-shuffled": (
+        "house-gen-v2-shuffled-v1",
+        "e8eeb214527e78badcfec1a9396ee6acdff65bd48a1a73083ec237274d76e021",
+    ),
 }
 
 
