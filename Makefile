@@ -37,7 +37,7 @@ bench: $(STAMP)
 # Re-evaluate the shipped agents on every suite with the paper's seeds and store them on
 # the leaderboard (house suites render their observation caches first: minutes).
 LEADERBOARD_AGENTS ?= random oracle
-LEADERBOARD_SUITES ?= gridworld house-single house-multi house-gen house-gen-v2 house-single-v2 house-multi-v2 house-gen-v2-objectnav
+LEADERBOARD_SUITES ?= gridworld house-single house-multi house-gen house-gen-v2 house-single-v2 house-multi-v2 house-gen-v2-objectnav house-gen-v2-shuffled
 LEADERBOARD_GRID_AGENTS ?= dqn hdqn hrl_grg hrl_grg_no_relation hrl_grg_no_termination hrl_grg_no_high_level   # shipped checkpoints
 # the same checkpoints evaluated greedily (epsilon 0): entry=agent
 LEADERBOARD_GREEDY ?= dqn_greedy=objsearch_agents.dqn:DQNGreedyAgent hdqn_greedy=objsearch_agents.hdqn:HDQNGreedyAgent \
