@@ -109,10 +109,12 @@ def _house_rules(env) -> list[str]:
     """The rules of the house task, from the constants that define them."""
     from objsearch.house.categories import CATEGORY_IDS, CATEGORY_TABLE_VERSION
     from objsearch.house.occupancy import AGENT_HEIGHT, AGENT_RADIUS
-    from objsearch.sim.goals import DEFAULT_RULE, GOAL_CAMERA
-    from objsearch.sim.navgraph import GRID
+    from objsearch.sim.goals import DEFAULT_RULE, GOAL_CAMERA, PROTOCOLS
+    from objsearch.sim.navgraph import GRID, STOP
+    from objsearch.sim.suites import OBJECTNAV_SUITES
 
     camera = env.settings.intrinsics()
+    objectnav = PROTOCOLS["objectnav"]
     ids = ", ".join(f"{i} {name}" for name, i in sorted(CATEGORY_IDS.items(), key=lambda kv: kv[1]))
     return [
         "#### The rules of the house task",
@@ -127,16 +129,24 @@ def _house_rules(env) -> list[str]:
         f"{camera['zfar']:g} m. `task.camera` holds these parameters (`RenderSettings.intrinsics`): "
         "the pixel (u, v) at depth z is the point ((u + 0.5 - cx) z / fx, (cy - v - 0.5) z / fy, z) "
         "(right, up, forward).",
-        f"- **Success** (every shipped suite, the paper's rule `{DEFAULT_RULE.kind}`): the episode ends, "
+        f"- **Success** (the paper's protocol, `paper`: every shipped suite but {', '.join(OBJECTNAV_SUITES)}; "
+        f"the rule `{DEFAULT_RULE.kind}`): the episode ends, "
         "successfully, when the agent stands on a goal pose of the target category. The goal poses are the "
         f"poses of the whole house whose view (through the goal camera, {GOAL_CAMERA.width} x "
         f"{GOAL_CAMERA.height}, {GOAL_CAMERA.fovy:g} degrees, {GOAL_CAMERA.camera_height:g} m high) shows the "
         f"most pixels of the category: every pose with at least the {DEFAULT_RULE.top_k}th largest area, ties "
         "included, over every object of the category. So the nearest chair may not hold a goal pose, and a "
         "painting mounted high or a coffee table is filled into the view from farther away than one step. "
-        "There is no STOP action: the episode ends by itself.",
-        f"- **The step limit** is the suite's `max_steps` (each suite file records its own; `house-single`: {env.max_steps}); "
-        "SPL counts every action, turns and blocked moves included, against the minimal number of actions.",
+        "There is no STOP action (`task.stop_action` is None): the episode ends by itself.",
+        f"- **Success under ObjectNav** (the `objectnav` protocol: {', '.join(OBJECTNAV_SUITES)}, and suite files "
+        "made with `objsearch suite make --protocol objectnav`; results record the protocol): the goal poses are "
+        f"every pose whose goal-camera view shows at least {objectnav.goal_rule.min_pixels} pixels of the category "
+        f"within {objectnav.goal_rule.max_distance:g} m (rule `{objectnav.goal_rule.kind}`; `task.goal_rule` holds "
+        f"it), and the episode succeeds only when the agent calls STOP (action {STOP}, `task.stop_action`) on one. "
+        "STOP anywhere else ends the episode as a failure; reaching a goal pose without STOP ends nothing.",
+        f"- **The step limit** is the suite's `max_steps` (each suite file records its own; `house-single`: {env.max_steps}, "
+        f"the paper's; ObjectNav suites: {objectnav.max_steps}, Habitat's); SPL counts every action, turns, blocked "
+        "moves and the STOP included, against the minimal number of actions.",
         f"- **`target` and `semantic`** use the ids of the category table {CATEGORY_TABLE_VERSION} "
         "(`objsearch generate` writes it as `categories.json`); the structure classes are drawn and labelled "
         f"in every frame, the ceiling too: {ids}.",
