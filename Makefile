@@ -44,12 +44,12 @@ LEADERBOARD_GREEDY ?= dqn_greedy=objsearch_agents.dqn:DQNGreedyAgent hdqn_greedy
 	hrl_grg_greedy=objsearch_agents.hrl_grg:HRLGRGGreedyAgent
 # house agents with shipped checkpoints: suite:agent, each evaluated on gt and on predicted observations
 # (predictions of house-gen's and house-gen-v2's 20 evaluation houses: 20-40 minutes of one core each the first time, a cache build)
-LEADERBOARD_HOUSE ?= house-single:a3c house-single:dqn house-single:hdqn house-single:hrl_grg \
-	house-multi:a3c house-multi:dqn house-multi:hdqn house-multi:hrl_grg \
-	house-gen:a3c house-gen:dqn house-gen:hrl_grg house-gen-v2:a3c house-gen-v2:hrl_grg
+LEADERBOARD_HOUSE ?= house-single:a3c house-single:dqn house-single:hrl_grg house-single:hdqn_explorer house-single:hrl_grg_explorer \
+	house-multi:a3c house-multi:dqn house-multi:hdqn house-multi:hrl_grg house-multi:hrl_grg_explorer \
+	house-gen:a3c house-gen:dqn house-gen:hrl_grg_explorer house-gen-v2:a3c house-gen-v2:hrl_grg house-gen-v2:hrl_grg_explorer
 # house agents also trained on predicted observations (agents/checkpoints/SUITE/AGENT/predicted/, the paper's
 # setting), evaluated on predicted observations as entry AGENT_predicted_trained
-LEADERBOARD_HOUSE_TRAINED_PREDICTED ?= house-single:a3c house-single:hrl_grg
+LEADERBOARD_HOUSE_TRAINED_PREDICTED ?= house-single:a3c house-single:hrl_grg_explorer
 # training-free reference agents on every house suite, evaluated on gt and on predicted observations
 LEADERBOARD_HOUSE_REFERENCE ?= frontier
 # then replay that many episodes of every stored entry (objsearch leaderboard verify --all: ~3 min

@@ -68,6 +68,15 @@ class GridAgent(OneSlotBatch):
             agent.load(checkpoint)
         return agent
 
+    @classmethod
+    def training_runs(cls, suite: str) -> list:
+        """The house agent's training runs for a house suite (the grid world ships one run: none listed)."""
+        from objsearch.eval.suites import suite_world
+
+        if suite_world(suite) == "house" and cls.house is not None:
+            return cls.house.training_runs(suite)
+        return []
+
     def __init__(self, epsilon: float | None = None):
         self._epsilon_override = epsilon
         self._build(self.config)

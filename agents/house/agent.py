@@ -3,7 +3,9 @@
 ``HouseAgent`` wraps ``HousePolicy`` with N = 1. It is built for a suite
 (``for_suite(suite, checkpoint)``): with no checkpoint it loads the one shipped for that
 (suite, agent) pair in ``agents/checkpoints/<suite>/<agent>/``, and a missing pair is an
-error that names the training command. ``act(obs)`` turns the env's 64x64 frame into the
+error that names the training command. That folder is the agent's training run of seed 0;
+its ``seed<N>/`` folders hold runs of the same recipe with ``--seed N``
+(``training_runs``: the harness evaluates them all). ``act(obs)`` turns the env's 64x64 frame into the
 same 10x10 tables training used (``ObservationTables.from_frames``), keeps the last 4,
 ends or continues the current option, picks a sub-goal if needed and an action.
 Evaluation explores as the authors evaluated: actor-critics sample from their policy,
@@ -12,6 +14,8 @@ Q-learning levels take a random choice with probability ``eps_end`` (0.1).
 
 from __future__ import annotations
 
+import csv
+import json
 import os
 import sys
 from pathlib import Path
@@ -20,13 +24,14 @@ import numpy as np
 
 from objsearch import digests
 from objsearch.errors import UserError
-from objsearch.eval.agent import OneSlotBatch
-from objsearch_agents.house.checkpoint import POLICY_FILE, load_policy
+from objsearch.eval.agent import OneSlotBatch, TrainingRun
+from objsearch_agents.house.checkpoint import CONFIG_FILE, LOG_FILE, POLICY_FILE, load_policy
 from objsearch_agents.house.config import HouseAgentConfig
 from objsearch_agents.house.tables import HISTORY, ObservationTables
 from objsearch_agents.rows import RowRandom
 
 CHECKPOINTS = Path(__file__).resolve().parent.parent / "checkpoints"
+ROOT = CHECKPOINTS.parent.parent  # the checkout: shipped configs name their inputs from here
 
 
 # generator version -> the suite whose checkpoints were trained for unseen houses of that generator
@@ -55,10 +60,44 @@ def generalisation_checkpoint(suite: str, name: str) -> tuple[Path | None, str |
     return (default_checkpoint(trained_on, name) if trained_on else None), generator
 
 
+def training_cost(run: Path) -> tuple[int | None, float | None]:
+    """(environment steps, seconds) that made the run folder ``run``: its own training (with
+    its ``pretrain/``) plus that of the checkpoints it starts from (``pretrained``,
+    ``explorer`` and its pretraining); None where a log is missing."""
+    config = json.loads((run / CONFIG_FILE).read_text())
+    folders = {run, run / "pretrain"}
+    for key in ("pretrained", "explorer"):
+        if config.get(key):
+            start = Path(config[key])
+            start = (start if start.is_absolute() else ROOT / start).parent
+            folders |= {start, start / "pretrain"} if key == "explorer" else {start}
+    steps, seconds = 0, 0.0
+    for folder in {f.resolve() for f in folders}:
+        log = folder / LOG_FILE
+        if not log.exists():
+            if folder.name == "pretrain" and not folder.exists():
+                continue  # no pretraining of its own
+            return None, None
+        with log.open() as f:
+            last = list(csv.DictReader(f))[-1]
+        steps, seconds = steps + int(last["env_steps"]), seconds + float(last["wall_s"])
+    return steps, round(seconds, 1)
+
+
+def run_folders(agent_folder: Path) -> list[Path]:
+    """The training runs shipped in ``agent_folder``: itself, then its ``seed<N>/`` by N."""
+    seeds = [f for f in agent_folder.glob("seed*") if f.name[4:].isdigit() and (f / POLICY_FILE).exists()]
+    return [agent_folder, *sorted(seeds, key=lambda f: int(f.name[4:]))]
+
+
 class HouseAgent(OneSlotBatch):
     """A house agent from a ``HouseAgentConfig`` (subclasses set ``config``)."""
 
     config = HouseAgentConfig()
+    explorer = False
+    """The method with the back-up node's explorer (``HouseAgentConfig.explorer``): our
+    extension, named ``<method>_explorer``; it trains with the suite's ``a3c`` as explorer,
+    pointed at the target, unless ``--set explorer=...`` says otherwise."""
 
     @classmethod
     def worlds(cls) -> tuple[str, ...]:
@@ -69,13 +108,18 @@ class HouseAgent(OneSlotBatch):
         """The paper's only: the learned agents have no STOP action (ObjectNav suites need one)."""
         return ("paper",)
 
+    @classmethod
+    def agent_name(cls) -> str:
+        """The name this agent is registered, trained and shipped under."""
+        return cls.config.name + ("_explorer" if cls.explorer else "")
+
     def __init__(self, suite: str = "house-single", checkpoint: str | os.PathLike | None = None):
         import torch
 
         torch.set_num_threads(1)  # batch-1 forwards of small networks: extra threads only contend
         self.suite = suite
         self.loaded_from: str | None = None
-        name = self.config.name
+        name = self.agent_name()
         path = checkpoint if checkpoint is not None else default_checkpoint(suite, name)
         if path is None:
             path, generator = generalisation_checkpoint(suite, name)
@@ -97,6 +141,20 @@ class HouseAgent(OneSlotBatch):
     def for_suite(cls, suite: str, checkpoint: str | os.PathLike | None = None) -> "HouseAgent":
         return cls(suite, checkpoint)
 
+    @classmethod
+    def training_runs(cls, suite: str) -> list[TrainingRun]:
+        """The shipped training runs for ``suite`` (those made for its generator's unseen
+        houses when the suite has none of its own), each with its seed and cost."""
+        name = cls.agent_name()
+        path = default_checkpoint(suite, name) or generalisation_checkpoint(suite, name)[0]
+        if path is None:
+            return []
+        runs = []
+        for folder in run_folders(path.parent):
+            seed = json.loads((folder / CONFIG_FILE).read_text())["seed"]
+            runs.append(TrainingRun(int(seed), str(folder), *training_cost(folder)))
+        return runs
+
     # -- checkpoints ------------------------------------------------------------------------
     def load(self, path: str | os.PathLike) -> None:
         """Load ``policy.pt`` (or a run directory holding it) and ``grg.npz`` beside it."""
@@ -111,9 +169,9 @@ class HouseAgent(OneSlotBatch):
         unless it was trained for unseen houses of this suite's generator (``GENERALISATION_SUITES``);
         warn when this suite holds houses that checkpoint trained on. (The camera, and the
         perception network of predicted observations, are checked where they are paired.)"""
-        if saved.name != self.config.name:
+        if saved.name != self.agent_name():
             raise UserError(
-                f"checkpoint {path} was trained as {saved.name}, not {self.config.name}; pick --agent {saved.name}"
+                f"checkpoint {path} was trained as {saved.name}, not {self.agent_name()}; pick --agent {saved.name}"
             )
         if saved.suite == self.suite:
             return
@@ -197,9 +255,23 @@ class HouseAgent(OneSlotBatch):
 
         from objsearch_agents.house.train import train
 
-        config = replace(cls.config, seed=int(seed), suite=suite).with_overrides(overrides or {})
+        overrides = dict(overrides or {})
+        if cls.explorer and "explorer" not in overrides:  # the shipped recipe: the suite's A3C, pointed at the target
+            explorer = default_checkpoint(suite, "a3c")
+            if explorer is None:
+                raise UserError(
+                    f"{cls.agent_name()} runs a trained a3c in its back-up node and none is shipped for suite {suite}: "
+                    "train one (objsearch train --agent a3c) and pass --set explorer=PATH/policy.pt"
+                )
+            overrides = {"explorer": os.path.relpath(explorer, ROOT), "explorer_target": "true", **overrides}
+        config = replace(cls.config, seed=int(seed), suite=suite).with_overrides(overrides)
         if steps is not None:
             config = replace(config, steps=int(steps))
+        if config.name != cls.agent_name():
+            raise UserError(
+                f"these settings train {config.name}, not {cls.agent_name()} (an explorer in the back-up node is our "
+                f"extension of the paper's method, with its own name): pass --agent {config.name}"
+            )
         run = train(config, out, progress=progress, fresh=fresh, command=command)
         k = run.counters
         return {

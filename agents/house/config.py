@@ -139,9 +139,9 @@ class HouseAgentConfig(JsonConfig):
 
     @property
     def name(self) -> str:
-        """The agent name this config trains (``hrl_grg_no_relation`` for an ablation)."""
-        if self.method != "hrl_grg":
-            return self.method
-        return "hrl_grg" + "".join(
-            f"_no_{n}" for n in ("relation", "termination", "high_level") if not getattr(self, n)
-        )
+        """The agent name this config trains (``hrl_grg_no_relation`` for an ablation,
+        ``hrl_grg_explorer``/``hdqn_explorer`` with an ``explorer``: our extension, not the paper's method)."""
+        name = self.method
+        if self.method == "hrl_grg":
+            name += "".join(f"_no_{n}" for n in ("relation", "termination", "high_level") if not getattr(self, n))
+        return name + ("_explorer" if self.explorer else "")

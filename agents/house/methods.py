@@ -1,8 +1,9 @@
 """The house agents by method: A3C, DQN, h-DQN ("Hrl") and HRL-GRG with its ablations.
 
 The names are the grid world's (``dqn``, ``hdqn``, ``hrl_grg``, ...; the grid-world class
-of each hands house suites to the class here) plus ``a3c``, which exists only in the
-houses. Each class is a ``HouseAgentConfig``; the method lives in ``policy`` and ``train``.
+of each hands house suites to the class here) plus those that exist only in the houses:
+``a3c``, and ``hdqn_explorer`` and ``hrl_grg_explorer``, the paper's methods with a trained
+A3C in the back-up node (``docs/house_agents.md``). Each class is a ``HouseAgentConfig``; the method lives in ``policy`` and ``train``.
 """
 
 from dataclasses import replace
@@ -31,10 +32,22 @@ class HDQNHouseAgent(HouseAgent):
     config = replace(_BASE, method="hdqn")
 
 
+class HDQNExplorerHouseAgent(HDQNHouseAgent):
+    """h-DQN whose back-up node runs a trained A3C (our extension; ``HouseAgent.explorer``)."""
+
+    explorer = True
+
+
 class HRLGRGHouseAgent(HouseAgent):
     """HRL-GRG: the GRG, a high level scoring candidates by relation, the A3C low level."""
 
     config = replace(_BASE, method="hrl_grg")
+
+
+class HRLGRGExplorerHouseAgent(HRLGRGHouseAgent):
+    """HRL-GRG whose back-up node runs a trained A3C (our extension; ``HouseAgent.explorer``)."""
+
+    explorer = True
 
 
 class HRLGRGNoRelationHouseAgent(HouseAgent):

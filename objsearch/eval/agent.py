@@ -13,8 +13,11 @@ depend on episode order or the number of workers), and must draw all its randomn
 ``task.rng``.
 
 Optional class hooks: ``worlds()`` names the worlds (``gridworld``, ``house``) whose suites
-the agent runs on (the harness refuses other suites before the first episode), and
-``for_suite(suite, checkpoint)`` builds the agent for a suite instead of ``cls()``.
+the agent runs on (the harness refuses other suites before the first episode),
+``for_suite(suite, checkpoint)`` builds the agent for a suite instead of ``cls()``, and
+``training_runs(suite) -> list[TrainingRun]`` lists the checkpoints of a learned agent made
+for the suite by the same recipe with different training seeds: with none given, the
+harness evaluates every one and reports across them (``objsearch.eval.runs``).
 
 The batched form (``objsearch-eval --batch N``): N episodes run in lockstep in slots
 0..N-1, and an agent that has all three of::
@@ -83,6 +86,24 @@ class AgentTask:
     camera: dict | None = None
     stop_action: int | None = None
     goal_rule: dict | None = None
+
+
+@dataclass(frozen=True)
+class TrainingRun:
+    """One training run of a learned agent: a checkpoint and what it cost.
+
+    Attributes:
+        seed: the training seed (``objsearch train --seed``); names the run
+            (``objsearch-eval --training-run SEED``).
+        checkpoint: the path ``for_suite``/``load`` takes.
+        env_steps: environment steps of its training, pretraining included (None: unknown).
+        wall_s: seconds of its training, pretraining included (None: unknown).
+    """
+
+    seed: int
+    checkpoint: str
+    env_steps: int | None = None
+    wall_s: float | None = None
 
 
 @runtime_checkable

@@ -65,6 +65,13 @@ def configure(parser: argparse.ArgumentParser) -> argparse.ArgumentParser:
     )
     parser.add_argument("--checkpoint", help="checkpoint passed to the agent's load()")
     parser.add_argument(
+        "--training-run",
+        type=int,
+        metavar="SEED",
+        help="learned agents shipped with several training runs: evaluate only the run of this training "
+        "seed (default: every run, reported across runs)",
+    )
+    parser.add_argument(
         "--out", help="write the results JSON here; an interrupted run resumes from OUT.partial.jsonl when rerun"
     )
     parser.add_argument("--maps", help="grid world: a directory of map_XXXX.npz to use instead of the test maps")
@@ -161,6 +168,7 @@ def run(args: argparse.Namespace) -> int:
         splits=tuple(args.splits or ()),
         seeds=args.seeds,
         checkpoint=args.checkpoint,
+        training_run=args.training_run,
         suite_config=suite_config(args),
         step_time_limit=args.step_time_limit or None,
     )

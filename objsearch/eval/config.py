@@ -23,7 +23,10 @@ class EvalConfig:
         step_time_limit: seconds an agent may take for one ``act`` (or ``reset``); past it
             the episode fails. None: no limit.
         weights_sha256: the digest of the files the agent loaded (its ``weights_sha256``,
-            ``objsearch.digests.of_files``), set by ``evaluate``; None for an agent without.
+            ``objsearch.digests.of_files``), set by ``evaluate``; None for an agent without
+            or for several training runs (each run's is in the results' ``training_runs``).
+        training_run: the training seed of the one shipped training run to evaluate
+            (``--training-run``; ``objsearch.eval.runs``); None: every run.
     """
 
     agent: str
@@ -34,9 +37,12 @@ class EvalConfig:
     suite_config: dict = field(default_factory=dict)
     step_time_limit: float | None = 10.0
     weights_sha256: str | None = None
+    training_run: int | None = None
 
     def to_json(self) -> dict:
-        """The fields as a JSON-ready dict (tuples as lists)."""
+        """The fields as a JSON-ready dict (tuples as lists; ``training_run`` only when set)."""
         out = asdict(self)
         out["splits"], out["seeds"] = list(self.splits), list(self.seeds)
+        if self.training_run is None:
+            del out["training_run"]
         return out

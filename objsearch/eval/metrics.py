@@ -50,23 +50,49 @@ def average_steps(records: Sequence[dict]) -> tuple[float | None, float | None]:
     return float(np.mean([r["steps"] for r in wins])), float(np.mean([r["min_steps"] for r in wins]))
 
 
-def bootstrap_ci(records: Sequence[dict], measure) -> list[float]:
-    """95% percentile bootstrap interval of ``measure`` over episodes.
+def bootstrap_stats(records: Sequence[dict], measure, seed: int = BOOTSTRAP_SEED) -> np.ndarray:
+    """``BOOTSTRAP_SAMPLES`` values of ``measure`` over resamples of ``records``.
 
     The unit resampled is the task (episode id): its records under all seeds move together,
-    since seeds repeat the same tasks. Fixed resampling seed, so the interval is reproducible.
+    since seeds repeat the same tasks. Records of several training runs (``training_run``)
+    are resampled over runs too: R whole runs drawn with replacement, then the tasks, as in
+    a two-level (hierarchical) bootstrap. A run is one network playing every task, so its
+    tasks' scores move together; rliable's stratified bootstrap (Agarwal et al., 2021)
+    draws a run per task instead, which averages that away (``docs/evaluation.md``).
+    A fixed resampling ``seed``, so the values are reproducible.
     """
-    by_task: dict = defaultdict(list)
+    by_task: dict = defaultdict(lambda: defaultdict(list))
     for r in records:
-        by_task[r["episode_id"]].append(r)
+        by_task[r["episode_id"]][r.get("training_run")].append(r)
+    runs = sorted({r.get("training_run") for r in records}, key=str)
     tasks = list(by_task.values())
-    per_task = np.array([measure(t) for t in tasks])
-    weights = np.array([len(t) for t in tasks], dtype=float)
-    rng = np.random.default_rng(BOOTSTRAP_SEED)
+    # scores[run, task]; a task's weight is its number of records in one run (its seeds)
+    scores = np.array([[measure(t[run]) if t[run] else np.nan for t in tasks] for run in runs])
+    weights = np.array([len(t[runs[0]]) for t in tasks], dtype=float)
+    rng = np.random.default_rng(seed)
     picks = rng.integers(len(tasks), size=(BOOTSTRAP_SAMPLES, len(tasks)))
-    stats = (per_task[picks] * weights[picks]).sum(axis=1) / weights[picks].sum(axis=1)
+    if len(runs) == 1:
+        return (scores[0][picks] * weights[picks]).sum(axis=1) / weights[picks].sum(axis=1)
+    drawn = rng.integers(len(runs), size=(BOOTSTRAP_SAMPLES, len(runs)))
+    w = weights[picks][:, None, :]
+    return (scores[drawn[:, :, None], picks[:, None, :]] * w).sum(axis=(1, 2)) / (w.sum(axis=2)[:, 0] * len(runs))
+
+
+def _interval(stats: np.ndarray) -> list[float]:
     alpha = (1 - CONFIDENCE) / 2
     return [float(np.quantile(stats, alpha)), float(np.quantile(stats, 1 - alpha))]
+
+
+def bootstrap_ci(records: Sequence[dict], measure) -> list[float]:
+    """95% percentile bootstrap interval of ``measure`` over episodes (and training runs;
+    ``bootstrap_stats``)."""
+    return _interval(bootstrap_stats(records, measure))
+
+
+def difference_ci(a: Sequence[dict], b: Sequence[dict], measure) -> list[float]:
+    """95% percentile bootstrap interval of ``measure(a) - measure(b)`` for two independent
+    sets of records (e.g. one agent on two suites), each resampled as ``bootstrap_ci`` does."""
+    return _interval(bootstrap_stats(a, measure) - bootstrap_stats(b, measure, seed=BOOTSTRAP_SEED + 1))
 
 
 def _round(value):
@@ -78,7 +104,10 @@ def summarize(records: Iterable[dict]) -> dict:
 
     Keys: ``sr``, ``spl``, ``as``, ``ms``, ``episodes`` (records), ``sr_ci``, ``spl_ci``,
     ``sr_std``/``spl_std`` (population std of the per-seed values), ``per_seed``
-    ({seed: {sr, spl}}) and ``per_goal`` ({goal: {sr, spl, as, ms, episodes}}).
+    ({seed: {sr, spl}}) and ``per_goal`` ({goal: {sr, spl, as, ms, episodes}}). Records of
+    several training runs add ``per_run`` ({training seed: {sr, spl}}) and
+    ``sr_std_runs``/``spl_std_runs`` (population std of the per-run values); their CIs come
+    from a bootstrap over runs and episodes.
     """
     records = list(records)
     if not records:
@@ -100,7 +129,7 @@ def summarize(records: Iterable[dict]) -> dict:
             "ms": _round(g_ms),
             "episodes": len(rs),
         }
-    return {
+    summary = {
         "sr": _round(success_rate(records)),
         "spl": _round(spl(records)),
         "as": _round(avg_steps),
@@ -113,3 +142,13 @@ def summarize(records: Iterable[dict]) -> dict:
         "per_seed": per_seed,
         "per_goal": per_goal,
     }
+    by_run: dict = defaultdict(list)
+    for r in records:
+        by_run[r.get("training_run")].append(r)
+    if len(by_run) > 1:
+        summary["per_run"] = {
+            str(run): {"sr": _round(success_rate(rs)), "spl": _round(spl(rs))} for run, rs in sorted(by_run.items())
+        }
+        summary["sr_std_runs"] = _round(np.std([success_rate(rs) for rs in by_run.values()]))
+        summary["spl_std_runs"] = _round(np.std([spl(rs) for rs in by_run.values()]))
+    return summary

@@ -11,9 +11,16 @@ Schema (``schema_version`` 1)::
       "config": {agent, suite, splits, seeds, checkpoint, suite_config},
       "splits": {"seen-goals": {"sr", "spl", "as", "ms", "episodes", "sr_ci", "spl_ci",
                                 "sr_std", "spl_std", "per_seed", "per_goal"}, ...},
+      "training_runs": [{"seed", "weights_sha256", "env_steps", "wall_s", "splits"}, ...],
       "episodes": [{"split", "seed", "episode_id", "goal", "success", "steps",
                     "min_steps", "spl", "task"}, ...]
     }
+
+``training_runs`` is there for agents that list their training runs
+(``objsearch.eval.runs``). With several, every record has ``training_run`` (its run's
+training seed), the split summaries are across runs (``per_run``, ``sr_std_runs``,
+``spl_std_runs``; CIs from a bootstrap over runs and episodes) and the config names no
+weights.
 
 A failed episode's record also has ``error`` (the message) and, if the agent's own code
 raised it, ``traceback`` (its last frames).
@@ -47,16 +54,20 @@ def git_commit() -> str | None:
     return out.stdout.strip() if out.returncode == 0 else None
 
 
-def build_results(config, suite, records: list[dict]) -> dict:
-    """The results dict of a run: agent, suite, versions, git commit, seeds, config, per-split summaries, records.
+def build_results(config, suite, records: list[dict], runs: list = ()) -> dict:
+    """The results dict of a run: agent, suite, versions, git commit, seeds, config, per-split
+    summaries, records; with ``runs`` ((``TrainingRun``, its ``EvalConfig``) pairs, the agent's
+    training runs that were played), ``training_runs``: each run's seed, weights, cost and
+    per-split summaries.
 
     Adds each record's ``spl`` (rounded to 4 places) in place.
     """
     from objsearch import __version__
+    from objsearch.eval.runs import run_entry
 
     for r in records:
         r["spl"] = round(episode_spl(r["success"], r["min_steps"], r["steps"]), 4)
-    return {
+    results = {
         "schema_version": SCHEMA_VERSION,
         "agent": config.agent,
         "suite": suite.name,
@@ -67,8 +78,24 @@ def build_results(config, suite, records: list[dict]) -> dict:
         "seeds": list(config.seeds),
         "config": config.to_json(),
         "splits": {split: summarize([r for r in records if r["split"] == split]) for split in config.splits},
-        "episodes": records,
     }
+    if runs:
+        tagged = len(runs) > 1
+        results["training_runs"] = [
+            run_entry(
+                run,
+                played.weights_sha256,
+                {
+                    split: summarize(
+                        [r for r in records if r["split"] == split and (not tagged or r["training_run"] == run.seed)]
+                    )
+                    for split in config.splits
+                },
+            )
+            for run, played in runs
+        ]
+    results["episodes"] = records
+    return results
 
 
 def _fmt(value, spec=".2f") -> str:
@@ -102,6 +129,14 @@ def format_table(results: dict) -> str:
         row("  95% CI", (f"{interval(s['sr_ci']):<{sr_w + as_w}}{interval(s['spl_ci']):<{spl_w}}" for s in splits)),
         row("  std/seeds", (f"{_fmt(s['sr_std']):<{sr_w + as_w}}{_fmt(s['spl_std']):<{spl_w}}" for s in splits)),
     ]
+    runs = results.get("training_runs", [])
+    if len(runs) > 1:
+        lines.append(
+            row(
+                "  std/runs",
+                (f"{_fmt(s['sr_std_runs']):<{sr_w + as_w}}{_fmt(s['spl_std_runs']):<{spl_w}}" for s in splits),
+            )
+        )
     rule = "-" * max(len(line) for line in lines)
     episodes = ", ".join(f"{name} {s['episodes']}" for name, s in results["splits"].items())
     footer = (
@@ -110,6 +145,13 @@ def format_table(results: dict) -> str:
     )
     if results.get("protocol", "paper") != "paper":
         footer += f"; protocol {results['protocol']}"
+    if len(runs) > 1:
+        footer += (
+            f"; {len(runs)} training runs (training seeds {','.join(str(r['seed']) for r in runs)}): "
+            "the mean over runs, CI over runs and episodes"
+        )
+    elif runs or results["config"].get("training_run") is not None:
+        footer += "; one training run"
     perception = results["config"].get("suite_config", {}).get("perception_key")
     if perception:
         footer += f"; predicted observations (perception network {perception})"

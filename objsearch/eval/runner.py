@@ -28,7 +28,7 @@ from objsearch.errors import UserError
 from objsearch.eval.config import EvalConfig, Unit
 from objsearch.eval.executors import run_local, run_ray
 from objsearch.eval.partial import PartialResults
-from objsearch.eval.registry import make_agent
+from objsearch.eval.runs import agent_of, run_config, training_runs
 from objsearch.eval.suites import check_splits, make_suite
 
 
@@ -124,12 +124,14 @@ def evaluate(
     """Evaluate ``config.agent`` on ``config.suite`` and return the results dict.
 
     With ``out``, the results JSON is written there; until it is, finished episodes are
-    kept in ``<out>.partial.jsonl`` and a rerun of the same configuration resumes from it.
-    With ``video_dir``, the pictures of the first ``video_episodes`` episodes of each split
-    (first seed) are written there (suites that have them); those are played one at a
-    time, the rest as usual. With ``batch`` > 1, each worker plays that many episodes in
-    lockstep (same records). Outputs that cannot be written are refused before the first
-    episode.
+    kept in ``<out>.partial.jsonl`` (one ``<out>.run<SEED>.partial.jsonl`` per training run)
+    and a rerun of the same configuration resumes from it. An agent that lists several
+    training runs for the suite plays each (``objsearch.eval.runs``), unless
+    ``config.checkpoint`` or ``config.training_run`` names one. With ``video_dir``, the
+    pictures of the first ``video_episodes`` episodes of each split (first seed) are written
+    there (suites that have them); those are played one at a time, the rest as usual. With
+    ``batch`` > 1, each worker plays that many episodes in lockstep (same records). Outputs
+    that cannot be written are refused before the first episode.
     """
     from objsearch.eval.results import build_results
     from objsearch.fileio import check_writable, write_json
@@ -144,25 +146,36 @@ def evaluate(
     if video_dir and not hasattr(suite, "write_video"):
         raise UserError(f"--video is not available for suite {config.suite!r} (house suites have it)")
     folder = os.getcwd()
-    agent = make_agent(config.agent, config.checkpoint, config.suite, folder)  # fail fast, before any worker starts
-    check_perception(agent, suite)
     # replace, not a new EvalConfig: every other field (and any field added later) is kept
-    config = replace(
-        config, splits=tuple(splits), suite_config=suite.config(), weights_sha256=getattr(agent, "weights_sha256", None)
-    )
-    del agent
-    partial = PartialResults(f"{out}.partial.jsonl", config) if out else None
-    try:
-        units = plan_units(suite, splits, config.seeds)
-        video_units = video_units_of(suite, splits, config.seeds, video_episodes) if video_dir else None
-        records = run_units(
-            config, units, workers, executor, address, partial, progress, video_dir, batch, folder, video_units
-        )
-    finally:
-        if partial:
-            partial.close()
-    results = build_results(config, suite, records)
+    config = replace(config, splits=tuple(splits), suite_config=suite.config())
+    runs = training_runs(config, folder)
+    several = len(runs) > 1
+    plays = [run_config(config, run) for run in runs] if several else [config]
+    for i, play in enumerate(plays):  # fail fast, before any worker starts
+        agent = agent_of(play, folder)
+        check_perception(agent, suite)
+        plays[i] = replace(play, weights_sha256=getattr(agent, "weights_sha256", None))
+        del agent
+    partial_paths = [
+        f"{out}.run{play.training_run}.partial.jsonl" if several else f"{out}.partial.jsonl" for play in plays
+    ]
+    records = []
+    for i, play in enumerate(plays):
+        partial = PartialResults(partial_paths[i], play) if out else None
+        videos = video_dir if i == 0 else None  # one run's pictures: the first's
+        try:
+            units = plan_units(suite, splits, config.seeds)
+            video_units = video_units_of(suite, splits, config.seeds, video_episodes) if videos else None
+            played = run_units(
+                play, units, workers, executor, address, partial, progress, videos, batch, folder, video_units
+            )
+        finally:
+            if partial:
+                partial.close()
+        records += [{**r, "training_run": play.training_run} for r in played] if several else played
+    results = build_results(config if several else plays[0], suite, records, list(zip(runs, plays)))
     if out:
         write_json(out, results)
-        partial.path.unlink(missing_ok=True)
+        for path in partial_paths:
+            Path(path).unlink(missing_ok=True)
     return results

@@ -9,7 +9,7 @@ from typing import Iterable
 from objsearch.eval.config import EvalConfig, Unit
 from objsearch.eval.episode import run_episode
 from objsearch.eval.lockstep import EnvSlots, play_lockstep
-from objsearch.eval.registry import make_agent
+from objsearch.eval.runs import agent_of
 from objsearch.eval.suites import Episode, make_suite
 
 
@@ -36,7 +36,7 @@ class Worker:
         self.video_units = None if video_units is None else frozenset(map(tuple, video_units))
         self.suite = make_suite(config.suite, **config.suite_config)
         self.env = self.suite.make_env()
-        self.agent = make_agent(config.agent, config.checkpoint, config.suite, folder)
+        self.agent = agent_of(config, folder)
         self.episodes: dict[str, list[Episode]] = {}
         self._slots = None
 
@@ -74,7 +74,7 @@ class Worker:
             return
         built = iter([self.agent])
         c = self.config
-        make = lambda: next(built, None) or make_agent(c.agent, c.checkpoint, c.suite, self.folder)
+        make = lambda: next(built, None) or agent_of(c, self.folder)
         yield from play_lockstep(units, self.slots(), make, self.episode, self.suite.name, c.step_time_limit)
 
     def slots(self):

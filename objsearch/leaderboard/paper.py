@@ -28,11 +28,16 @@ PAPER_NAMES = {
     "a3c": "A3C",
     "hdqn": "h-DQN",
     "hrl_grg": "HRL-GRG",
+    "hdqn_explorer": "h-DQN + explorer (ours)",
+    "hrl_grg_explorer": "HRL-GRG + explorer (ours)",
     "hrl_grg_no_relation": "HRL-GRG -relation",
     "hrl_grg_no_termination": "HRL-GRG -termination",
     "hrl_grg_no_high_level": "HRL-GRG -high-level",
     "frontier": "Frontier (not in the paper)",
 }
+TRAINING_FREE = ("random", "oracle", "frontier")
+"""The shipped agents that load no weights: any other entry that reports no training runs
+(results from before they were recorded) counts as one run."""
 GRIDWORLD_TABLES = {
     "Table 1: methods": ("random", "oracle", "dqn", "hdqn", "hrl_grg"),
     "Table 2: ablations of HRL-GRG": (
@@ -60,9 +65,10 @@ _HOUSE3D = {
     "h-DQN": ((0.77, 0.15), (0.05, 0.00), (0.43, 0.05), (0.28, 0.02)),
     "HRL-GRG": ((0.88, 0.33), (0.79, 0.21), (0.76, 0.20), (0.62, 0.10)),
 }
-HOUSE3D_TABLE = ("random", "dqn", "a3c", "hdqn", "hrl_grg", "frontier")
-"""The rows of the paper's Table 3 (its "Hrl" is our ``hdqn``), by submission name, and
-``frontier``, the training-free reference agent, a row the paper did not have."""
+HOUSE3D_TABLE = ("random", "dqn", "a3c", "hdqn", "hrl_grg", "hdqn_explorer", "hrl_grg_explorer", "frontier")
+"""The rows of the paper's Table 3 (its "Hrl" is our ``hdqn``), by submission name, then rows
+the paper did not have: the paper's hierarchical methods with a trained A3C in the back-up
+node (our extension, ``*_explorer``) and ``frontier``, the training-free reference agent."""
 PREDICTED_SUFFIX = "_predicted"
 """A submission ``<name>_predicted`` is ``<name>`` evaluated on the perception network's predictions."""
 TRAINED_ON_PREDICTED_SUFFIX = "_predicted_trained"

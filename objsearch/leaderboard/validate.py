@@ -20,6 +20,7 @@ import json
 import math
 import re
 from collections import Counter
+from dataclasses import replace
 from pathlib import Path
 
 import numpy as np
@@ -27,10 +28,11 @@ import numpy as np
 from objsearch.errors import UserError
 from objsearch.eval.config import PAPER_SEEDS, EvalConfig
 from objsearch.eval.metrics import episode_spl, summarize
-from objsearch.eval.registry import make_agent
 from objsearch.eval.results import SCHEMA_VERSION
 from objsearch.eval.runner import run_units
+from objsearch.eval.runs import agent_of
 from objsearch.eval.suites import SUITES, make_suite
+from objsearch.sim.goals import PROTOCOLS
 
 REQUIRED = (
     "schema_version",
@@ -179,6 +181,8 @@ _NAMES = (lambda x: isinstance(x, list) and all(_NAME[0](v) for v in x), f"a lis
 _BOOL = (lambda x: isinstance(x, bool), "true or false")
 _DICT = (lambda x: isinstance(x, dict), "an object")
 _OPT_NUMBER = (lambda x: x is None or _is_number(x), "a number or null")
+_OPT_COUNT = (lambda x: x is None or (_is_int(x) and x >= 0), "a non-negative integer or null")
+_SEED = (lambda x: _is_int(x) and x >= 0, "a non-negative integer")
 # field: (test, what it must be, required)
 TOP_FIELDS = {
     "schema_version": (*_INT, True),
@@ -192,6 +196,8 @@ TOP_FIELDS = {
     "splits": (*_DICT, True),
     "episodes": ((lambda x: isinstance(x, list)), "a list", True),
     "partial": (*_BOOL, False),
+    "training_runs": ((lambda x: isinstance(x, list) and 0 < len(x) <= 100), "a list of 1 to 100 runs", False),
+    "protocol": (lambda x: x in PROTOCOLS, f"one of the protocols {', '.join(PROTOCOLS)}", False),
 }
 CONFIG_FIELDS = {
     "agent": (*_AGENT, True),
@@ -202,6 +208,14 @@ CONFIG_FIELDS = {
     "suite_config": (*_DICT, False),
     "step_time_limit": (*_OPT_NUMBER, False),
     "weights_sha256": (*_SHA256, False),
+    "training_run": (*_SEED, False),
+}
+RUN_FIELDS = {  # an entry of training_runs (objsearch.eval.runs.run_entry)
+    "seed": (*_SEED, True),
+    "weights_sha256": (*_SHA256, True),
+    "env_steps": (*_OPT_COUNT, True),
+    "wall_s": (*_OPT_NUMBER, True),
+    "splits": (*_DICT, True),
 }
 # the strings of a suite's options (the suite checks their values): the perception key is
 # shown on the pages; any other string option is a path
@@ -218,6 +232,7 @@ RECORD_FIELDS = {
     "task": (*_DICT, True),
     "error": (*_text(2000), False),
     "traceback": (*_text(20000), False),
+    "training_run": (*_SEED, False),
 }
 
 
@@ -248,6 +263,12 @@ def type_problems(results: dict) -> list[str]:
             k: (*SUITE_CONFIG_STRINGS.get(k, _PATH), False) for k, v in suite_config.items() if isinstance(v, str)
         }
         problems = _field_problems(suite_config, strings, "config.suite_config")
+    for i, run in enumerate([] if problems else results.get("training_runs", [])):
+        problems += (
+            _field_problems(run, RUN_FIELDS, f"training_runs[{i}]")
+            if isinstance(run, dict)
+            else [f"training_runs[{i}] is {_short(run)}, not an object"]
+        )
     if not problems:
         problems = [
             f"summary of split {split!r} is {_short(s)}, not an object"
@@ -294,6 +315,8 @@ def check_submission(results: dict) -> list[str]:
         suite, episodes = _suite(suite_name, json.dumps(config.get("suite_config", {}), sort_keys=True))
     except (UserError, TypeError, ValueError) as err:
         return [f"suite configuration {config.get('suite_config')!r} is not valid: {err}"]
+    if results.get("protocol", "paper") != suite.protocol:  # results before protocols existed: the paper's
+        return [f"protocol {results.get('protocol', 'paper')!r} is not the suite's {suite.protocol!r}"]
     if results["episode_set_version"] != suite.episode_set_version:
         return [
             f"episode set {results['episode_set_version']!r} is not the suite's current {suite.episode_set_version!r}"
@@ -321,14 +344,18 @@ def check_submission(results: dict) -> list[str]:
     if full and results.get("partial", False):
         return [f"is marked partial but covers {standard}; add it without --partial"]
 
-    expected = {(split, seed, i) for split in splits for seed in seeds for i in episodes[split]}
-    keys = Counter((r["split"], r["seed"], r["episode_id"]) for r in results["episodes"])
+    problems = _run_problems(results)
+    if problems:
+        return problems
+    runs = played_runs(results)
+    expected = {(split, seed, i, run) for split in splits for seed in seeds for i in episodes[split] for run in runs}
+    keys = Counter(_unit(r) for r in results["episodes"])
     duplicated = [k for k, n in keys.items() if n > 1]
     absent = expected - set(keys)
     extra = set(keys) - expected
     for label, units in (("missing", absent), ("duplicated", duplicated), ("unexpected", extra)):
         if units:
-            shown = ", ".join(f"{s}/seed {seed}/episode {e}" for s, seed, e in sorted(units, key=str)[:3])
+            shown = ", ".join(_where(unit) for unit in sorted(units, key=str)[:3])
             problems.append(f"{len(units)} {label} episode(s), e.g. {shown}")
     if problems:
         return problems
@@ -352,22 +379,74 @@ def check_submission(results: dict) -> list[str]:
             break
     if problems:
         return problems
-    for split in splits:
-        recomputed = summarize([r for r in results["episodes"] if r["split"] == split])
-        if _differs(results["splits"][split], recomputed):
-            fields = [k for k in recomputed if _differs(results["splits"][split].get(k), recomputed[k])]
-            problems.append(
-                f"split {split}: summary ({', '.join(fields)}) differs from the one recomputed from its episodes"
-            )
+    summaries = [("", results["splits"], lambda r: True)] + [
+        (
+            f"training run {run['seed']}, ",
+            run["splits"],
+            lambda r, seed=run["seed"]: r.get("training_run", seed) == seed,
+        )
+        for run in results.get("training_runs", [])
+    ]
+    for where, stored, of_it in summaries:
+        if sorted(stored) != sorted(splits):
+            problems.append(f"{where}summary splits {sorted(stored)} differ from the config's {sorted(splits)}")
+            continue
+        for split in splits:
+            recomputed = summarize([r for r in results["episodes"] if r["split"] == split and of_it(r)])
+            if _differs(stored[split], recomputed):
+                fields = [k for k in recomputed if _differs(stored[split].get(k), recomputed[k])]
+                problems.append(
+                    f"{where}split {split}: summary ({', '.join(fields)}) differs from the one recomputed from its episodes"
+                )
     return problems
 
 
-def replay_sample(results: dict, k: int = VERIFY_EPISODES) -> list[tuple[str, int, int]]:
-    """``k`` (split, seed, episode_id) units of ``results``, chosen by a hash of its whole
-    content: any change to the submission draws another sample."""
+def played_runs(results: dict) -> list:
+    """The training seeds whose records ``results`` holds: [None] for a single run, whose
+    records carry no ``training_run``."""
+    runs = results.get("training_runs", [])
+    return [run["seed"] for run in runs] if len(runs) > 1 else [None]
+
+
+def _unit(record: dict) -> tuple:
+    return record["split"], record["seed"], record["episode_id"], record.get("training_run")
+
+
+def _where(unit: tuple) -> str:
+    run = "" if unit[3] is None else f" of training run {unit[3]}"
+    return f"{unit[0]}/seed {unit[1]}/episode {unit[2]}{run}"
+
+
+def _run_problems(results: dict) -> list[str]:
+    """How ``training_runs`` disagrees with the config and the records, if it does."""
+    runs = results.get("training_runs", [])
+    seeds = [run["seed"] for run in runs]
+    if len(set(seeds)) != len(seeds):
+        return [f"training_runs names a training seed twice ({seeds})"]
+    config = results["config"]
+    if len(runs) > 1 and (config.get("weights_sha256") or config.get("checkpoint") or "training_run" in config):
+        return ["a result of several training runs names no checkpoint, weights or training_run in its config"]
+    if len(runs) == 1 and runs[0]["weights_sha256"] != config.get("weights_sha256"):
+        return ["training_runs[0] names other weights than the config"]
+    if "training_run" in config and seeds != [config["training_run"]]:
+        return [f"the config's training_run {config['training_run']} is not the one run of training_runs {seeds}"]
+    tagged = {r.get("training_run") for r in results["episodes"]}
+    if tagged != (set(seeds) if len(runs) > 1 else {None}):
+        return [
+            f"the records' training runs {sorted(tagged, key=str)} are not those of training_runs "
+            f"({seeds if len(runs) > 1 else 'none: one run'})"
+        ]
+    return []
+
+
+def replay_sample(results: dict, k: int = VERIFY_EPISODES) -> list[tuple]:
+    """``k`` (split, seed, episode_id, training run) units of ``results``, chosen by a hash of
+    its whole content: any change to the submission draws another sample."""
     digest = hashlib.sha256(json.dumps(results, sort_keys=True).encode()).hexdigest()
-    units = sorted({(r["split"], r["seed"], r["episode_id"]) for r in results["episodes"]})
-    rank = lambda u: hashlib.sha256(f"{digest}/{u[0]}/{u[1]}/{u[2]}".encode()).hexdigest()
+    units = sorted({_unit(r) for r in results["episodes"]}, key=str)
+    rank = lambda u: hashlib.sha256(
+        (f"{digest}/{u[0]}/{u[1]}/{u[2]}" + ("" if u[3] is None else f"/{u[3]}")).encode()
+    ).hexdigest()
     return sorted(units, key=rank)[:k]
 
 
@@ -386,24 +465,30 @@ def verify_submission(results: dict, k: int = VERIFY_EPISODES) -> list[str]:
         checkpoint=c.get("checkpoint"),
         suite_config=c.get("suite_config", {}),
         step_time_limit=None,
+        training_run=c.get("training_run"),
     )
-    claimed = c.get("weights_sha256")
-    if claimed is not None:  # the weights the submission names must be the ones that load now
-        loaded = getattr(make_agent(config.agent, config.checkpoint, config.suite), "weights_sha256", None)
-        if loaded != claimed:
-            return [
-                f"the submission used weights {claimed[:12]}, but agent {results['agent']!r} loads {str(loaded)[:12]} "
-                f"(checkpoint {config.checkpoint or 'shipped'}); replay it with the weights it names"
-            ]
-    stored = {(r["split"], r["seed"], r["episode_id"]): r for r in results["episodes"]}
+    runs = results.get("training_runs", [])
+    claims = {None: c.get("weights_sha256")} if len(runs) <= 1 else {run["seed"]: run["weights_sha256"] for run in runs}
+    stored = {_unit(r): r for r in results["episodes"]}
     units = replay_sample(results, k)
-    for replayed in run_units(config, units, progress=False):
-        unit = (replayed["split"], replayed["seed"], replayed["episode_id"])
-        for key in REPLAYED:
-            if stored[unit].get(key) != replayed.get(key):
-                problems.append(
-                    f"episode {unit[0]}/seed {unit[1]}/{unit[2]}: {key} is {stored[unit].get(key)!r} in the "
-                    f"submission but {replayed.get(key)!r} when replayed with agent {results['agent']!r}"
-                )
-                break
+    for run, claimed in claims.items():
+        play = config if run is None else replace(config, training_run=run)
+        if claimed is not None:  # the weights the submission names must be the ones that load now
+            loaded = getattr(agent_of(play), "weights_sha256", None)
+            if loaded != claimed:
+                what = f"checkpoint {config.checkpoint or 'shipped'}" + ("" if run is None else f", training run {run}")
+                return [
+                    f"the submission used weights {claimed[:12]}, but agent {results['agent']!r} loads "
+                    f"{str(loaded)[:12]} ({what}); replay it with the weights it names"
+                ]
+        mine = [u[:3] for u in units if u[3] == run]
+        for replayed in run_units(play, mine, progress=False) if mine else []:
+            unit = (replayed["split"], replayed["seed"], replayed["episode_id"], run)
+            for key in REPLAYED:
+                if stored[unit].get(key) != replayed.get(key):
+                    problems.append(
+                        f"episode {_where(unit)}: {key} is {stored[unit].get(key)!r} in the "
+                        f"submission but {replayed.get(key)!r} when replayed with agent {results['agent']!r}"
+                    )
+                    break
     return problems[:3] + ([f"{len(problems)} of {len(units)} replayed episodes differ"] if len(problems) > 3 else [])

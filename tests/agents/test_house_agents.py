@@ -2,6 +2,7 @@
 the shipped checkpoints and bad input."""
 
 from dataclasses import replace
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -383,14 +384,43 @@ def test_house_agents_refuse_other_checkpoints_and_suites(tmp_path):
 
 
 def test_every_shipped_house_checkpoint_loads():
-    from objsearch.eval.registry import make_agent
+    """Every shipped run loads under its name, and says how it was made: the agent's folder is
+    its seed-0 run (loaded by default), ``seed<N>/`` the same recipe with ``--seed N``."""
+    from objsearch.eval.registry import make_agent, resolve_agent
 
     shipped = sorted(CHECKPOINTS.glob("house-*/*/policy.pt"))
+    assert len(shipped) >= 13
     for path in shipped:
         suite, name = path.parent.parent.name, path.parent.name
         agent = make_agent(name, suite=suite)
         assert agent.loaded_from == str(path) and agent.policy.config.name == name
-        assert (path.parent / "command.txt").read_text().startswith(f"objsearch train --agent {name} --suite {suite}")
+        runs = resolve_agent(name).training_runs(suite)
+        assert runs[0].checkpoint == str(path.parent) and runs[0].seed == 0
+        recipe = (path.parent / "command.txt").read_text().split(" --seed ")[0].split(" --quiet")[0]
+        assert recipe.startswith(f"objsearch train --agent {name} --suite {suite}")
+        for run in runs:
+            folder = Path(run.checkpoint)
+            assert make_agent(name, run.checkpoint, suite=suite).policy.config.seed == run.seed
+            assert {"SHA256SUMS", "command.txt", "config.json", "log.csv"} <= {f.name for f in folder.iterdir()}
+            assert run.env_steps and run.wall_s  # its cost, its starting checkpoints' included
+            if run.seed:
+                assert folder.name == f"seed{run.seed}" and f"--seed {run.seed}" in (folder / "command.txt").read_text()
+
+
+def test_the_explorer_extension_has_its_own_name(tmp_path):
+    """The paper's hierarchical methods have no explorer in their back-up node: a run with
+    one is ``<method>_explorer``, under that name only."""
+    from objsearch.eval.registry import make_agent
+    from objsearch_agents.house.methods import HRLGRGExplorerHouseAgent, HRLGRGHouseAgent
+
+    with pytest.raises(UserError, match="train hrl_grg_explorer, not hrl_grg .*pass --agent hrl_grg_explorer"):
+        HRLGRGHouseAgent.train(suite="house-single", out=tmp_path, overrides={"explorer": "a3c/policy.pt"})
+    with pytest.raises(UserError, match="train hrl_grg, not hrl_grg_explorer"):
+        HRLGRGExplorerHouseAgent.train(suite="house-single", out=tmp_path, overrides={"explorer": ""})
+    explorer = CHECKPOINTS / "house-single" / "hrl_grg_explorer"
+    with pytest.raises(UserError, match="trained as hrl_grg_explorer, not hrl_grg; pick --agent hrl_grg_explorer"):
+        make_agent("hrl_grg", str(explorer), suite="house-single")
+    assert not list(tmp_path.iterdir())  # refused before anything was written
 
 
 @pytest.mark.parametrize("agent", ["a3c", "hrl_grg"])
@@ -403,6 +433,7 @@ def test_batched_evaluation_gives_the_sequential_records(cache_dir, agent):
         splits=("seen-goals",),
         seeds=(1,),
         suite_config={"mode": "cached", "cache_dir": cache_dir, "max_steps": 60},
+        training_run=0,  # one of the shipped runs: each plays through the same code
     )
     one = evaluate(config, progress=False, batch=1)
     many = evaluate(config, progress=False, batch=16)

@@ -1,5 +1,6 @@
 """Misbehaving agents for the harness tests (an oracle that fails in chosen ways)."""
 
+import hashlib
 import time
 
 from objsearch_agents.oracle import OracleAgent
@@ -50,3 +51,41 @@ class InterruptedAgent(OracleAgent):
             raise KeyboardInterrupt
         cls.resets += 1
         super().reset(task)
+
+
+def weights_of(checkpoint) -> str:
+    """The stand-in weights digest of a ``RunsAgent`` checkpoint."""
+    return hashlib.sha256(str(checkpoint).encode()).hexdigest()
+
+
+class RunsAgent(OracleAgent):
+    """A learned agent shipped as three training runs (seeds 0, 1, 2) of unequal skill: the
+    run of checkpoint ``"run-K"`` plays an episode as the oracle with probability
+    ``SKILL[K]``, else with random moves. Grid world only, for fast tests of multi-run
+    evaluation."""
+
+    SKILL = (0.9, 0.5, 0.1)
+
+    @classmethod
+    def training_runs(cls, suite):
+        from objsearch.eval.agent import TrainingRun
+
+        return [TrainingRun(seed, f"run-{seed}", env_steps=1000 * (seed + 1), wall_s=1.5) for seed in (0, 1, 2)]
+
+    @classmethod
+    def for_suite(cls, suite, checkpoint=None):
+        agent = cls()
+        agent.load(checkpoint or "run-0")
+        return agent
+
+    def load(self, path):
+        self.skill = self.SKILL[int(str(path).rsplit("-", 1)[1])]
+        self.weights_sha256 = weights_of(path)
+
+    def reset(self, task):
+        super().reset(task)
+        self._rng, self._n = task.rng, task.action_space.n
+        self._oracle = self._rng.random() < self.skill
+
+    def act(self, observation):
+        return super().act(observation) if self._oracle else int(self._rng.integers(self._n))

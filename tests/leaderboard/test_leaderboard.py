@@ -130,9 +130,11 @@ def test_pages_come_from_the_stored_submissions_alone(tmp_path, oracle_results):
         in tables
     )
     assert "| HRL-GRG | not run (0.57) | not run (0.33) |" in tables
-    # Table 3 (House3D): SR / SPL per suite split, a gt and a predicted row per learned method
-    assert "| HRL-GRG | gt | not run (0.88 / 0.33) | not run (0.79 / 0.21) |" in tables
-    assert "| HRL-GRG | predicted | not run | not run |" in tables and tables.count("| HRL-GRG |") == 4
+    # Table 3 (House3D): SR / SPL per suite split, a gt and a predicted row per learned method,
+    # the training runs behind each row (none stored here: "–")
+    assert "| HRL-GRG | gt | – | not run (0.88 / 0.33) | not run (0.79 / 0.21) |" in tables
+    assert "| HRL-GRG | predicted | – | not run | not run |" in tables and tables.count("| HRL-GRG |") == 4
+    assert tables.count("| HRL-GRG + explorer (ours) |") == 2  # the extension: its own rows, after the paper's
 
 
 def test_rows_say_whether_the_agent_saw_ground_truth_or_predictions(oracle_results):
@@ -227,6 +229,9 @@ def test_table3_has_a_trained_on_predictions_row_only_for_a_method_that_has_one(
     from objsearch.leaderboard.render import render_paper_tables
 
     splits = {"seen-goals": {"sr": 0.9, "spl": 0.4}, "unseen-goals": {"sr": 0.8, "spl": 0.3}}
-    tables = render_paper_tables([("hrl_grg_predicted_trained", {"suite": "house-single", "splits": splits})])
-    assert "| HRL-GRG | predicted, trained on it | **0.90 / 0.40** | **0.80 / 0.30** | not run | not run |" in tables
+    entry = {"suite": "house-single", "splits": splits, "agent": "hrl_grg", "config": {"weights_sha256": "0" * 64}}
+    tables = render_paper_tables([("hrl_grg_predicted_trained", entry)])
+    assert (
+        "| HRL-GRG | predicted, trained on it | 1* | **0.90 / 0.40** | **0.80 / 0.30** | not run | not run |" in tables
+    )
     assert "| A3C | predicted, trained on it |" not in tables and tables.count("| A3C |") == 2
