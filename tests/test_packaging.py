@@ -154,7 +154,7 @@ out = {
 for name in ("dqn", "hdqn", "hrl_grg", "hrl_grg_no_relation", "hrl_grg_no_termination", "hrl_grg_no_high_level"):
     out["checkpoints"][name] = make_agent(name).loaded_from
 for suite in SUITE_NAMES:
-    for name in ("a3c", "dqn", "hdqn", "hrl_grg"):
+    for name in ("a3c", "dqn", "hdqn", "hrl_grg", "hdqn_explorer", "hrl_grg_explorer"):
         try:
             out["checkpoints"][f"{suite}/{name}"] = make_agent(name, suite=suite).loaded_from
         except Exception as err:

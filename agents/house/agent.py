@@ -17,6 +17,7 @@ from __future__ import annotations
 import csv
 import json
 import os
+import re
 import sys
 from pathlib import Path
 
@@ -63,8 +64,13 @@ def generalisation_checkpoint(suite: str, name: str) -> tuple[Path | None, str |
 def training_cost(run: Path) -> tuple[int | None, float | None]:
     """(environment steps, seconds) that made the run folder ``run``: its own training (with
     its ``pretrain/``) plus that of the checkpoints it starts from (``pretrained``,
-    ``explorer`` and its pretraining); None where a log is missing."""
+    ``explorer`` and its pretraining); None where a log is missing. The inputs are those its
+    ``command.txt`` names with ``--set``, where a shipped run's command names where they are
+    committed, else those of its ``config.json``, where they were when it trained."""
     config = json.loads((run / CONFIG_FILE).read_text())
+    command = run / "command.txt"
+    if command.exists():
+        config.update(re.findall(r"--set (pretrained|explorer)=(\S+)", command.read_text()))
     folders = {run, run / "pretrain"}
     for key in ("pretrained", "explorer"):
         if config.get(key):

@@ -16,7 +16,7 @@ from dataclasses import replace
 from objsearch.errors import UserError
 from objsearch.eval.agent import TrainingRun
 from objsearch.eval.config import EvalConfig
-from objsearch.eval.registry import make_agent, resolve_agent
+from objsearch.eval.registry import check_supports, make_agent, resolve_agent
 
 
 def training_runs(config: EvalConfig, folder: str | None = None) -> list[TrainingRun]:
@@ -29,7 +29,9 @@ def training_runs(config: EvalConfig, folder: str | None = None) -> list[Trainin
                 "only that one: drop one of the two"
             )
         return []
-    listed = getattr(resolve_agent(config.agent, folder), "training_runs", None)
+    cls = resolve_agent(config.agent, folder)
+    check_supports(config.agent, cls, config.suite)  # a suite of another world has no runs to ask for
+    listed = getattr(cls, "training_runs", None)
     runs = list(listed(config.suite)) if callable(listed) else []
     if config.training_run is None:
         return runs

@@ -71,6 +71,7 @@ def runs_label(runs: int | None) -> str:
 
 
 def steps_label(steps: int | None) -> str:
+    """``20M`` (environment steps, rounded); ``–`` when unknown."""
     return "–" if steps is None else f"{steps / 1e6:.0f}M" if steps >= 1e6 else f"{steps / 1e3:.0f}k"
 
 
