@@ -2,6 +2,7 @@
 above random, records that do not depend on the batch, and the worlds it refuses."""
 
 import numpy as np
+import pytest
 
 from objsearch.eval.episode import run_episode
 from objsearch.eval.suites.house import HouseSuite
@@ -68,11 +69,12 @@ def test_frontier_finds_targets_far_more_often_than_random(cache_dir):
     assert sr["frontier"] >= 0.8 and sr["random"] <= 0.25, sr
 
 
-def test_batched_records_equal_the_sequential_ones(cache_dir):
+@pytest.mark.parametrize("agent", ["frontier", "grg_frontier"])
+def test_batched_records_equal_the_sequential_ones(cache_dir, agent):
     from objsearch.eval.runner import EvalConfig, evaluate
 
     config = EvalConfig(
-        agent="frontier",
+        agent=agent,
         suite="house-single",
         splits=("seen-goals",),
         seeds=(1,),
@@ -82,6 +84,8 @@ def test_batched_records_equal_the_sequential_ones(cache_dir):
     many = evaluate(config, progress=False, batch=16)
     assert many["episodes"] == one["episodes"]
     assert 0 < sum(r["success"] for r in one["episodes"]) < 100 and not any("error" in r for r in one["episodes"])
+    if agent == "grg_frontier":
+        assert one["config"]["weights_sha256"], "the GRG it read is recorded"
 
 
 def test_frontier_on_the_grid_world_is_refused_in_one_line(tmp_path):

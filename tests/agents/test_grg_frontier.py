@@ -73,23 +73,6 @@ def test_with_no_relation_weight_it_plays_exactly_as_frontier(cache_dir):
         assert records[0] == records[1] and "error" not in records[0]
 
 
-def test_batched_records_equal_the_sequential_ones(cache_dir):
-    from objsearch.eval.runner import EvalConfig, evaluate
-
-    config = EvalConfig(
-        agent="grg_frontier",
-        suite="house-single",
-        splits=("seen-goals",),
-        seeds=(1,),
-        suite_config={"mode": "cached", "cache_dir": cache_dir, "max_steps": 40},
-    )
-    one = evaluate(config, progress=False, batch=1)
-    many = evaluate(config, progress=False, batch=16)
-    assert many["episodes"] == one["episodes"]
-    assert 0 < sum(r["success"] for r in one["episodes"]) < 100 and not any("error" in r for r in one["episodes"])
-    assert one["config"]["weights_sha256"], "the GRG it read is recorded"
-
-
 def test_a_suite_without_a_grg_is_refused_naming_the_fix(monkeypatch, tmp_path):
     import objsearch_agents.house.agent as house_agent
 
