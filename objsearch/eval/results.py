@@ -98,6 +98,14 @@ def build_results(config, suite, records: list[dict], runs: list = ()) -> dict:
     return results
 
 
+# The last line of every results table: what its columns and rows mean.
+TABLE_LEGEND = (
+    "SR: success rate; SPL: success weighted by path length; AS / MS: mean steps / mean shortest-path steps "
+    "of the successful episodes only (an agent that succeeds only from nearby starts has a low MS); "
+    "95% CI: bootstrap over tasks; std/seeds: std over evaluation seeds"
+)
+
+
 def _fmt(value, spec=".2f") -> str:
     return "-" if value is None else format(value, spec)
 
@@ -105,7 +113,7 @@ def _fmt(value, spec=".2f") -> str:
 def format_table(results: dict) -> str:
     """The results as a text table laid out like the paper's Table 1: one column group per
     split with SR, AS / MS and SPL, then rows with the 95% intervals and the spread (std)
-    over seeds."""
+    over seeds; a footer (suite, seeds, episodes) and the ``TABLE_LEGEND`` last."""
     splits = results["splits"].values()
     sr_w, as_w, spl_w = 6, 16, 11
 
@@ -155,4 +163,5 @@ def format_table(results: dict) -> str:
     perception = results["config"].get("suite_config", {}).get("perception_key")
     if perception:
         footer += f"; predicted observations (perception network {perception})"
-    return "\n".join([rule, *lines[:2], rule, *lines[2:], rule, footer])
+    legend = TABLE_LEGEND + ("; std/runs: std over training runs" if len(runs) > 1 else "")
+    return "\n".join([rule, *lines[:2], rule, *lines[2:], rule, footer, legend])
