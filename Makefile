@@ -21,9 +21,13 @@ $(STAMP): $(BIN)/python pyproject.toml
 install: $(STAMP)
 
 demo: $(STAMP)
+	@echo "demo 1/4: random agent on the paper's grid world, every split, 5 seeds: the floor any method must beat"
 	$(BIN)/objsearch-eval --suite gridworld
+	@echo "demo 2/4: oracle (shortest paths) on the grid world: the ceiling, SR = SPL = 1 by construction"
 	$(BIN)/objsearch-eval --suite gridworld --agent oracle
+	@echo "demo 3/4: HRL-GRG (the paper's method, shipped checkpoint) on the grid world's unseen goals, 1 seed, 2 workers"
 	$(BIN)/objsearch-eval --suite gridworld --agent hrl_grg --split unseen-goals --seeds 1 --workers 2
+	@echo "demo 4/4: HRL-GRG in a 3D MuJoCo house (house-single, the default suite), 1 seed, 32 episodes in lockstep"
 	$(BIN)/objsearch-eval --agent hrl_grg --seeds 1 --batch 32   # the main job: a house suite (house-single)
 
 test: $(STAMP)
