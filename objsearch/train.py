@@ -8,8 +8,8 @@ its class's hook::
 
 (``overrides``: the ``--set KEY=VALUE`` pairs, interpreted by the agent's config). An agent
 class without ``train`` cannot be trained here. Re-running the same command resumes the run
-in ``--out`` from its last checkpoint; Ctrl-C finishes the current step, writes a
-checkpoint and exits with 130.
+in ``--out`` from its last checkpoint; Ctrl-C (or SIGTERM) finishes the current step, writes
+a checkpoint and exits with 130 (143).
 """
 
 from __future__ import annotations
@@ -62,14 +62,16 @@ def add_parser(subparsers) -> None:
 def run(args: argparse.Namespace) -> int:
     """``objsearch train``: train (or resume) the agent's run in ``--out`` with its class's ``train``.
 
-    Returns 0, or 130 if interrupted; ``UserError`` if the agent cannot be trained.
+    Returns 0, or 130 if interrupted (143 by SIGTERM); ``UserError`` if the agent cannot be trained.
     """
-    from objsearch.eval.registry import resolve_agent
+    from objsearch.eval.registry import check_supports, resolve_agent
+    from objsearch.interrupt import interrupted_line, stop_status
 
     cls = resolve_agent(args.agent)
     trainer = getattr(cls, "train", None)
     if not callable(trainer):
         raise UserError(f"agent {args.agent!r} cannot be trained (its class has no train(...) classmethod)")
+    check_supports(args.agent, cls, args.suite)  # a world or protocol it cannot play: refused before training
     suite_dir = Path(args.suite).stem if args.suite.endswith(".json") else args.suite  # a suite file: its name
     out = args.out or f"runs/{suite_dir}/{args.agent.replace(':', '.')}-seed{args.seed}"
     command = "objsearch " + " ".join(shlex.quote(a) for a in sys.argv[1:]) if sys.argv[1:2] == ["train"] else None
@@ -88,4 +90,9 @@ def run(args: argparse.Namespace) -> int:
         f"{args.agent}: {summary.get('finished')} episodes, {summary.get('env_steps')} env steps in {out}",
         file=sys.stderr,
     )
-    return 130 if summary.get("interrupted") else 0
+    if summary.get("interrupted"):
+        status = stop_status()
+        saved = f"checkpoint written to {out}; rerun the same command to resume"
+        print(f"objsearch train: {interrupted_line(status, saved)}", file=sys.stderr)
+        return status
+    return 0

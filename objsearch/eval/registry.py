@@ -154,7 +154,7 @@ def check_protocol(spec: str, protocols, suite: str) -> None:
     raise UserError(
         f"agent {spec!r} plays the {' and '.join(protocols)} protocol, not suite {suite!r}'s {protocol}: "
         f"learned agents have no STOP action, and {protocol} counts success only when the agent calls STOP at the "
-        f"goal; evaluate it on a suite of the paper protocol{twin}"
+        f"goal; use a suite of the paper protocol{twin}"
     )
 
 

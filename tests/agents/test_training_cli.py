@@ -106,6 +106,18 @@ def test_bad_override_and_untrainable_agent(tmp_path):
     assert bad.returncode == 2 and "cannot be trained" in bad.stderr
 
 
+def test_a_suite_the_agent_cannot_play_is_refused_before_training(tmp_path):
+    # an ObjectNav suite needs STOP, which the learned agents lack; a house agent cannot train in the grid world
+    for agent, suite, reason in [
+        ("a3c", "house-gen-v2-objectnav", "plays the paper protocol"),
+        ("a3c", "gridworld", "runs in the house world"),
+    ]:
+        out = tmp_path / agent / suite
+        bad = train(out, 4, "--suite", suite, agent=agent)
+        assert bad.returncode == 2 and reason in bad.stderr, bad.stderr
+        assert not out.exists()
+
+
 def test_trained_checkpoint_through_the_harness(runs, tmp_path):
     from objsearch.gridworld.dataset import DATA_DIR
 
