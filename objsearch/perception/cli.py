@@ -125,7 +125,9 @@ def run_dataset(args: argparse.Namespace) -> int:
 
 
 def run_train(args: argparse.Namespace) -> int:
-    """``objsearch perception train``: train (or resume) into ``--out``; returns 0, or 130 if interrupted."""
+    """``objsearch perception train``: train (or resume) into ``--out``; returns 0, or 130 if
+    interrupted (143 by SIGTERM)."""
+    from objsearch.interrupt import interrupted_line, stop_status
     from objsearch.perception.config import TrainConfig
     from objsearch.perception.train import train
 
@@ -142,8 +144,13 @@ def run_train(args: argparse.Namespace) -> int:
     config = TrainConfig(data=args.data).with_overrides(overrides)
     print(f"command: objsearch perception {shlex.join(sys.argv[2:]) if len(sys.argv) > 2 else 'train'}")
     finished = train(config, args.out, fresh=args.fresh, progress=not args.quiet)
-    print(f"{'finished' if finished else 'interrupted; rerun to resume'}: {args.out}/model.pt")
-    return 0 if finished else 130
+    if finished:
+        print(f"finished: {args.out}/model.pt")
+        return 0
+    status = stop_status()
+    saved = f"checkpoint written to {args.out}; rerun the same command to resume"
+    print(f"objsearch perception train: {interrupted_line(status, saved)}", file=sys.stderr)
+    return status
 
 
 def target_categories() -> list[int]:
@@ -183,14 +190,14 @@ def _json_value(v, digits: int | None = 4):
 
 def run_eval(args: argparse.Namespace) -> int:
     """``objsearch perception eval``: print a checkpoint's segmentation, visibility and depth
-    metrics on a split, beside issue 15's targets (and as JSON)."""
+    metrics on a split, beside the quality targets (and as JSON)."""
     import torch
 
     from objsearch.house.categories import CATEGORY_NAMES
     from objsearch.perception.dataset import load_split, read_manifest
     from objsearch.perception.inference import BATCH, Predictor, evaluate
     from objsearch.perception.metrics import (
-        ISSUE15_TARGETS,
+        QUALITY_TARGETS,
         format_table,
         format_targets,
         target_metrics,
@@ -228,10 +235,10 @@ def run_eval(args: argparse.Namespace) -> int:
     print(
         f"network: {result['predict_frames_per_s']:.1f} frames/s (batches of {BATCH}, {predictor.device}, "
         f"{torch.get_num_threads()} torch threads; benchmarks/bench_perception.py measures it properly); "
-        "issue 15 target >= 150 frames/s batched on 2 CPU cores"
+        "target >= 150 frames/s batched on 2 CPU cores"
     )
     print(
-        "issue 15 targets:" if args.split == "test" else f"issue 15 targets (set for the test split, not {args.split}):"
+        "quality targets:" if args.split == "test" else f"quality targets (set for the test split, not {args.split}):"
     )
     labels = {
         "miou_targets": f"mIoU, the suites' {present} target categories",
@@ -267,9 +274,9 @@ def run_eval(args: argparse.Namespace) -> int:
                 CATEGORY_NAMES[c]: [CATEGORY_NAMES.get(o, "?"), round(share, 4)]
                 for c, (o, share) in result["confused_with"].items()
             },
-            issue15_targets={
+            quality_targets={
                 k: {"target": f"{op} {t}", "status": target_status(result.get(k, float("nan")), (op, t))}
-                for k, (op, t) in ISSUE15_TARGETS.items()
+                for k, (op, t) in QUALITY_TARGETS.items()
             },
         )
         print(json.dumps(summary, sort_keys=True))

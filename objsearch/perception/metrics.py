@@ -19,7 +19,7 @@ Depth, over pixels whose ground truth hit something (0 < gt < ``zfar``):
 * ``depth_absrel`` = mean |d - g| / g; ``depth_rmse`` = sqrt(mean (d - g)^2) metres;
   ``depth_delta1`` = fraction with max(d / g, g / d) < 1.25.
 
-What a searching agent uses of a frame (issue 15), per frame and object category:
+What a searching agent uses of a frame, per frame and object category:
 
 * visibility: a category is *visible* in a frame when it covers at least ``VISIBLE_PIXELS``
   (20) pixels of it, the agents' candidate rule (``objsearch_agents.house.tables.
@@ -38,8 +38,8 @@ What a searching agent uses of a frame (issue 15), per frame and object category
   over the suites' target categories (``target_metrics``).
 
 ``target_metrics(result, ids)`` adds ``miou_targets``, ``visibility_f1_targets`` and
-``mask10_iou_targets``; ``ISSUE15_TARGETS`` are the figures issue 15 asks for and
-``format_targets`` prints a result beside them.
+``mask10_iou_targets``; ``QUALITY_TARGETS`` are the figures a network should reach on the test houses for agents
+to search on its predictions as on ground truth, and ``format_targets`` prints a result beside them.
 """
 
 from __future__ import annotations
@@ -55,8 +55,8 @@ from objsearch.perception.model import NUM_CLASSES
 VISIBLE_PIXELS = 20
 #: Side of the block maps the agents see (the paper's 10 x 10).
 MASK_SIZE = 10
-#: Issue 15's figures for the test houses: metric -> (">=" or "<=", value).
-ISSUE15_TARGETS = {
+#: The figures a network should reach on the test houses: metric -> (">=" or "<=", value).
+QUALITY_TARGETS = {
     "miou_targets": (">=", 0.60),
     "miou": (">=", 0.40),
     "visibility_f1": (">=", 0.85),
@@ -336,10 +336,10 @@ def target_status(value: float, target: tuple[str, float]) -> str:
 
 
 def format_targets(result: dict, labels: dict | None = None) -> str:
-    """One line per ``ISSUE15_TARGETS`` metric in ``result``: the value, the target and whether it is met."""
+    """One line per ``QUALITY_TARGETS`` metric in ``result``: the value, the target and whether it is met."""
     labels = labels or {}
     lines = []
-    for key, (op, threshold) in ISSUE15_TARGETS.items():
+    for key, (op, threshold) in QUALITY_TARGETS.items():
         value = result.get(key, float("nan"))
         lines.append(
             f"{labels.get(key, key):<44} {value:6.3f}   target {op} {threshold:.2f}: "

@@ -1,5 +1,4 @@
-"""Appearance variety for the perception network's training frames (issue 15: "variety over
-volume").
+"""Appearance variety for the perception network's training frames ("variety over volume").
 
 Test houses hold object shapes the network never saw in training (each category's held-out
 mesh variant), and the categories it fails on are the ones whose unseen shape looks like
@@ -20,7 +19,7 @@ and every suite stay as they are, and so do the validation and test frames. ``st
 (0..1) scales every range; 0 leaves the model untouched. Same model, rng state and strength,
 same result.
 
-Measured (``docs/perception.md``, "Issue 15 targets"): at strength 1 it lowered every test
+Measured (``docs/perception.md``, "Appearance variety"): at strength 1 it lowered every test
 measure of a 6,000-step training run by 0.02-0.03 and did not help the look-alike categories;
 the shipped network is trained without it.
 """

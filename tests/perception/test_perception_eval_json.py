@@ -1,4 +1,4 @@
-"""``objsearch perception eval --json`` reports issue 15's figures, and the shipped
+"""``objsearch perception eval --json`` reports the quality targets' figures, and the shipped
 checkpoint's stored evaluation (``eval_test.json``) holds them consistently."""
 
 import json
@@ -10,7 +10,7 @@ from objsearch.cli import main
 from objsearch.perception.dataset import build_dataset
 from objsearch.perception.inference import SHIPPED_CHECKPOINT
 
-ISSUE15_KEYS = {"miou", "miou_targets", "visibility_f1", "depth_absrel"}
+TARGET_KEYS = {"miou", "miou_targets", "visibility_f1", "depth_absrel"}
 NEW_KEYS = {
     "visibility_precision",
     "visibility_recall",
@@ -19,7 +19,7 @@ NEW_KEYS = {
     "mask10_miou",
     "visibility_per_category",
     "mask10_per_category",
-    "issue15_targets",
+    "quality_targets",
     "targets",
 }
 
@@ -29,23 +29,23 @@ def micro_f1(rows):
     return 2 * tp / (2 * tp + fp + fn)
 
 
-def test_eval_json_reports_the_issue15_metrics_beside_their_targets(tmp_path, capsys):
+def test_eval_json_reports_the_quality_metrics_beside_their_targets(tmp_path, capsys):
     build_dataset(tmp_path, seed=0, eval_poses_per_house=24, houses={"train": 0, "val": 0, "test": 1}, progress=False)
     assert main(["perception", "eval", "--data", str(tmp_path), "--device", "cpu", "--json"]) == 0
     out = capsys.readouterr().out
     result = json.loads(out.strip().splitlines()[-1])
-    assert ISSUE15_KEYS | NEW_KEYS <= set(result) and result["frames"] == 24
+    assert TARGET_KEYS | NEW_KEYS <= set(result) and result["frames"] == 24
     assert result["visible_pixels"] == 20 and len(result["targets"]) == 25
     assert result["visibility_f1"] == pytest.approx(micro_f1(result["visibility_per_category"].values()))
     # the human part names every target beside its figure
     for line in ("target >= 0.60", "target >= 0.40", "target >= 0.85", "target <= 0.06"):
         assert line in out
-    assert set(result["issue15_targets"]) == ISSUE15_KEYS
+    assert set(result["quality_targets"]) == TARGET_KEYS
 
 
-def test_stored_evaluation_holds_the_issue15_metrics():
+def test_stored_evaluation_holds_the_quality_metrics():
     stored = json.loads((SHIPPED_CHECKPOINT.parent / "eval_test.json").read_text())
-    assert ISSUE15_KEYS | NEW_KEYS <= set(stored) and stored["frames"] == 2000
+    assert TARGET_KEYS | NEW_KEYS <= set(stored) and stored["frames"] == 2000
     per = stored["visibility_per_category"]
     assert stored["visibility_f1"] == pytest.approx(micro_f1(per.values()))
     targets = [per[n] for n in stored["targets"] if n in per]

@@ -1,4 +1,4 @@
-"""Issue 15's metrics (what a searching agent uses of a frame) on hand-made frames with known answers:
+"""The perception metrics a searching agent uses (visibility, 10x10 masks) on hand-made frames with known answers:
 visibility at the agents' candidate rule, the 10 x 10 maps the agents see, the target subset."""
 
 import math
@@ -9,7 +9,7 @@ import pytest
 
 from objsearch.house.categories import CATEGORY_IDS
 from objsearch.perception.metrics import (
-    ISSUE15_TARGETS,
+    QUALITY_TARGETS,
     VISIBLE_PIXELS,
     Evaluation,
     category_pixels,
@@ -154,11 +154,11 @@ def test_target_metrics_and_accumulation_over_batches():
     assert "vis F1" in text and "visibility (>= 20 pixels)" in text
 
 
-def test_issue15_targets_are_reported_met_or_missed_by_how_much():
+def test_quality_targets_are_reported_met_or_missed_by_how_much():
     assert target_status(0.462, (">=", 0.60)) == "missed by 0.138"
     assert target_status(0.05, ("<=", 0.06)) == "met" and target_status(0.6, (">=", 0.6)) == "met"
     assert target_status(float("nan"), (">=", 0.6)) == "not measured"
     text = format_targets({"miou_targets": 0.462, "miou": 0.5, "visibility_f1": 0.9, "depth_absrel": 0.078})
-    assert len(text.splitlines()) == len(ISSUE15_TARGETS)
+    assert len(text.splitlines()) == len(QUALITY_TARGETS)
     assert "miou_targets" in text and "missed by 0.138" in text and "missed by 0.018" in text
     assert "not measured" in format_targets({})
