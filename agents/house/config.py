@@ -77,6 +77,9 @@ class HouseAgentConfig(JsonConfig):
     """Episodes over which exploration falls linearly from eps_start to eps_end."""
     curriculum_episodes: int = 10_000
     """Episode i starts among the nearest max(1, N * min((i + 10) / this, 1)) start poses."""
+    max_start_steps: int = 40
+    """Search episodes start 6 to this many minimal steps from the target's goal poses (the
+    suites' window, ``START_STEPS``; the authors' House3D DQN trained from starts under 20)."""
     pretrain_steps: int = 4_000_000
     """Environment steps of the approach pretraining of the actor-critic (0: none)."""
     pretrained: str = ""
@@ -126,6 +129,7 @@ class HouseAgentConfig(JsonConfig):
                 "rollout",
                 "eps_anneal_episodes",
                 "curriculum_episodes",
+                "max_start_steps",
                 "plan_every",
                 "checkpoint_every",
                 "log_every",

@@ -11,8 +11,8 @@ uniformly among that house's trainable targets, then a start from a pool sorted 
 steps to the nearest goal pose, of which episode i may use the nearest
 ``max(1, floor(N * min((i + 10) / curriculum, 1)))`` (the curriculum). Pools:
 
-* ``search`` (main phase): poses ``START_STEPS`` (6-40) minimal steps from the goal poses,
-  the evaluation episodes' range;
+* ``search`` (main phase): poses ``START_STEPS[0]`` to ``max_start_steps`` (6-40 by default)
+  minimal steps from the goal poses, the evaluation episodes' range;
 * ``approach`` (pretraining the low level): poses that see the category
   (``VISIBLE_PIXELS``) and are not goal poses.
 """
@@ -54,12 +54,21 @@ class TrainingHouses:
         cache_dir: observation caches (built if missing).
         predictor: if given, the agent observes its predictions (``PredictedCache``);
             goals are always judged on the ground truth.
+        max_start_steps: the ``search`` pool's farthest start, in minimal steps to the goals.
 
     The agent's tables come from ``AGENT_CAMERA`` frames (a predictor must be trained on
     them), goal poses from ``GOAL_CAMERA`` frames (the rule the suites use).
     """
 
-    def __init__(self, refs: list[HouseRef], targets: list[str], cache_dir=None, predictor=None, progress: bool = True):
+    def __init__(
+        self,
+        refs: list[HouseRef],
+        targets: list[str],
+        cache_dir=None,
+        predictor=None,
+        progress: bool = True,
+        max_start_steps: int = START_STEPS[1],
+    ):
         self.worlds = [World.load(ref) for ref in refs]
         self.house_ids = [w.house_id for w in self.worlds]
         self.perception_key = None if predictor is None else predictor.key  # what the agent learns to see
@@ -87,7 +96,7 @@ class TrainingHouses:
                 dist = world.graph.shortest_steps(goals).astype(np.int64)
                 pools = {}
                 if cid in target_ids:
-                    ok = (dist >= START_STEPS[0]) & (dist <= START_STEPS[1])
+                    ok = (dist >= START_STEPS[0]) & (dist <= max_start_steps)
                     pools["search"] = _by_distance(ok, dist) + offset
                 ok = seen[:, cid] & (dist > 0) & (dist < np.iinfo(np.int32).max)
                 pools["approach"] = _by_distance(ok, dist) + offset

@@ -39,6 +39,7 @@ from tqdm import tqdm
 from objsearch import torchfile
 from objsearch.fileio import atomic_write, write_csv, write_json
 from objsearch.interrupt import stop_on_interrupt
+from objsearch.sim.env import START_STEPS
 from objsearch_agents.a2c import ActorCriticLearner
 from objsearch_agents.dqn_learner import Learner, td_loss
 from objsearch_agents.house.checkpoint import CONFIG_FILE, LOG_FILE, STATE_FILE, load_checkpoint_file, save_policy
@@ -419,7 +420,7 @@ def train(
     torch.set_num_threads(1)  # small networks: threads cost more than they give
     out = Path(out)
     if houses is None:
-        houses = suite_training_houses(config.suite, config.observation, cache_dir, progress)
+        houses = suite_training_houses(config.suite, config.observation, cache_dir, progress, config.max_start_steps)
     out.mkdir(parents=True, exist_ok=True)
     if command:
         with atomic_write(out / "command.txt") as f:
@@ -449,9 +450,14 @@ def train(
 
 
 def suite_training_houses(
-    suite_name: str, observation: str = "gt", cache_dir: str | None = None, progress: bool = True
+    suite_name: str,
+    observation: str = "gt",
+    cache_dir: str | None = None,
+    progress: bool = True,
+    max_start_steps: int = START_STEPS[1],
 ) -> TrainingHouses:
-    """The training houses and seen targets of a house suite (``objsearch.sim.suites``)."""
+    """The training houses and seen targets of a house suite (``objsearch.sim.suites``), search
+    episodes starting ``START_STEPS[0]`` to ``max_start_steps`` steps from the goals."""
     from objsearch.sim.suites import load_suite_file, training_houses, training_targets
 
     suite = load_suite_file(suite_name)
@@ -460,4 +466,6 @@ def suite_training_houses(
         from objsearch.perception.inference import Predictor, resolve_checkpoint
 
         predictor = Predictor.from_checkpoint(str(resolve_checkpoint(None)), device="cpu")
-    return TrainingHouses(training_houses(suite), training_targets(suite), cache_dir, predictor, progress)
+    return TrainingHouses(
+        training_houses(suite), training_targets(suite), cache_dir, predictor, progress, max_start_steps
+    )

@@ -13,7 +13,7 @@ from objsearch.errors import UserError
 from objsearch.house.categories import CATEGORY_IDS, FIRST_OBJECT_ID
 from objsearch.sim.camera import AGENT_CAMERA, CameraMismatchError
 from objsearch.sim.env import HouseEnv
-from objsearch.sim.world import HouseRef
+from objsearch.sim.world import HouseRef, World
 from objsearch.sim.wrappers import FrameHistory, TargetMaskDepth
 from objsearch_agents.house.agent import CHECKPOINTS
 from objsearch_agents.house.checkpoint import save_policy
@@ -31,6 +31,19 @@ TARGETS = ["bed", "sofa", "toilet", "fridge", "tv", "bathtub", "wardrobe", "nigh
 @pytest.fixture(scope="module")
 def houses(cache_dir):
     return TrainingHouses([SMALL], TARGETS, cache_dir, progress=False)
+
+
+def test_search_starts_lie_in_the_configured_window(houses, cache_dir):
+    near = TrainingHouses([SMALL], TARGETS, cache_dir, progress=False, max_start_steps=12)
+    world = World.load(SMALL)
+    for wide, narrow in zip(houses.pairs, near.pairs):
+        steps = world.graph.shortest_steps(wide.goals)
+        if "search" not in wide.pools:
+            continue
+        assert steps[wide.pools["search"]].min() >= 6 and steps[wide.pools["search"]].max() <= 40
+        assert set(narrow.pools["search"]) == {p for p in wide.pools["search"] if steps[p] <= 12}
+        assert np.array_equal(narrow.pools["approach"], wide.pools["approach"])
+    assert any(len(n.pools["search"]) < len(w.pools["search"]) for w, n in zip(houses.pairs, near.pairs))
 
 
 def test_tables_equal_the_wrappers(cache_dir):
