@@ -4,6 +4,9 @@ Writes ``OUT/<house_id>/`` for seeds S .. S+N-1: ``house.xml`` (compiles in MuJo
 under ``meshes/`` beside it), ``spec.json`` (the HouseSpec) and ``preview.png``, plus
 ``OUT/categories.json`` (the segmentation category table).
 
+``--generator``: ``house-gen-2`` (the default: zoned floorplans with corridors and an
+entrance) or ``house-gen-1`` (the generator of house-single, house-multi and house-gen).
+
 ``--placement shuffled`` builds the same houses (floorplan, rooms, objects) with every object
 moved to a random place anywhere in the house, whatever the functional groups and room
 priors say (``objsearch.house.shuffle``): houses whose object relations are broken.
@@ -16,7 +19,7 @@ import sys
 
 from objsearch.cliargs import non_negative_int, positive_int
 from objsearch.errors import UserError
-from objsearch.house.spec import HOUSE_PLACEMENTS
+from objsearch.house.spec import DEFAULT_GENERATOR, GENERATORS, HOUSE_PLACEMENTS
 
 
 def add_parser(subparsers) -> None:
@@ -40,10 +43,11 @@ def add_parser(subparsers) -> None:
     )
     p.add_argument(
         "--generator",
-        choices=("house-gen-1", "house-gen-2"),
-        default="house-gen-1",
-        help="generator version (default: house-gen-1, the one every shipped suite uses; house-gen-2: zoned "
-        "floorplans with corridors, L-shaped rooms, an entrance and fill that follows room area)",
+        choices=GENERATORS,
+        default=DEFAULT_GENERATOR,
+        help=f"generator version (default: {DEFAULT_GENERATOR}: zoned floorplans with corridors, L-shaped rooms, "
+        "an entrance and fill that follows room area; house-gen-1: the older layouts of house-single, house-multi "
+        "and house-gen, rooms cut from a rectangle, no entrance)",
     )
     p.add_argument(
         "--placement",

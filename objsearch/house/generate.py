@@ -1,7 +1,7 @@
 """The house pipeline: stages -> ``HouseSpec`` -> MJCF -> compile -> validate, with resampling.
 
-``generate_house(seed)`` runs the stages (footprint and rooms, room types, doors and walls,
-furniture, materials) with ``numpy.random.default_rng([seed, attempt, split])`` and
+``generate_house(seed, generator="house-gen-1")`` runs the stages of this module (footprint
+and rooms, room types, doors and walls, furniture, materials) with ``numpy.random.default_rng([seed, attempt, split])`` and
 validates the result (``objsearch.house.validate``). Resampling is bounded and documented:
 if a stage cannot satisfy its rules (``StageFailure``), the model does not compile, or
 validation fails, the next *attempt* starts over from a fresh generator; after
@@ -15,10 +15,12 @@ The attempt that succeeded is recorded in the spec, so a spec is reproducible fr
 house (then regenerate the golden specs: ``python tests/house/make_golden.py``).
 
 Generators (``GENERATORS``, chosen with ``generate_house(..., generator=NAME)``):
-``house-gen-1`` (the default, the stages of this module; every shipped suite, golden spec and
-checkpoint uses it, byte for byte) and ``house-gen-2`` (``objsearch.house.generate_v2``:
-zoned floorplans with corridors, L-shaped rooms, per-type room sizes, an entrance and fill
-that follows room area; its own rules in ``objsearch.house.validate_v2``).
+``house-gen-2`` (``DEFAULT_GENERATOR``; ``objsearch.house.generate_v2``: zoned floorplans with
+corridors, L-shaped rooms, per-type room sizes, an entrance and fill that follows room area;
+its own rules in ``objsearch.house.validate_v2``) and ``house-gen-1`` (the stages of this
+module: rooms cut from a rectangle, no entrance). A suite or checkpoint records the
+generator of its houses (``HouseRef.generator``; none recorded: ``house-gen-1``), so the
+default never changes a shipped house.
 
 Placements (``HOUSE_PLACEMENTS``, chosen with ``generate_house(..., placement=NAME)``): ``functional``
 (the default: objects in functional groups, by room priors) and ``shuffled``: the functional
@@ -51,12 +53,10 @@ from objsearch.house.layout import HouseContext
 from objsearch.house.materials import EXTERIOR, room_materials
 from objsearch.house.mjcf import compile_house
 from objsearch.house.shuffle import shuffle_house
-from objsearch.house.spec import HOUSE_PLACEMENTS, HouseSpec, Room, r4
+from objsearch.house.spec import DEFAULT_GENERATOR, GENERATORS, HOUSE_PLACEMENTS, HouseSpec, Room, r4
 from objsearch.house.validate import ValidationReport, validate_house
 
-HOUSE_GENERATOR_VERSION = "house-gen-1"
-DEFAULT_GENERATOR = HOUSE_GENERATOR_VERSION
-GENERATORS = ("house-gen-1", "house-gen-2")
+HOUSE_GENERATOR_VERSION = "house-gen-1"  # the version of this module's stages
 MAX_ATTEMPTS = 12
 #: Attempts per generator: house-gen-2's stages reject more layouts early (cheaply), so it gets more.
 GENERATOR_ATTEMPTS = {"house-gen-1": MAX_ATTEMPTS, "house-gen-2": 24}
@@ -165,7 +165,7 @@ def generate_house(
 ) -> GeneratedHouse:
     """Generate, compile and (with ``validate``) check the house of ``seed``, retrying up to ``MAX_ATTEMPTS``.
 
-    ``generator`` names the generator version (``GENERATORS``; default ``house-gen-1``),
+    ``generator`` names the generator version (``GENERATORS``; default ``house-gen-2``),
     ``placement`` how objects are placed (``HOUSE_PLACEMENTS``; default ``functional``).
     Raises ``UserError`` for an unknown split, size class, generator or placement,
     ``HouseGenerationError`` if no attempt (no shuffle) is valid.

@@ -26,6 +26,10 @@ OUTSIDE = -1
 #: How a house's objects are placed (``HouseSpec.placement``): in functional groups by room
 #: priors, or shuffled (``objsearch.house.shuffle``). The first is the default.
 HOUSE_PLACEMENTS = ("functional", "shuffled")
+#: The generator versions (``HouseSpec.generator_version``; ``objsearch.house.generate``), and
+#: the one ``generate_house`` and ``objsearch generate`` use unless told otherwise.
+GENERATORS = ("house-gen-1", "house-gen-2")
+DEFAULT_GENERATOR = "house-gen-2"
 
 
 def r4(x: float) -> float:

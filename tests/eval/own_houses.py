@@ -26,7 +26,8 @@ def make_own_houses(work: Path, cache_dir: str) -> Path:
     """``work/houses/`` (two small houses, as objsearch generate writes them) and
     ``work/my-suite.json`` (20 episodes, seed 1) made from them; returns ``work``."""
     out = run(
-        "objsearch", "generate", "--seed", "3", "--num", "2", "--rooms", "small", "--no-preview", "--quiet",
+        "objsearch", "generate", "--seed", "3", "--num", "2", "--rooms", "small", "--generator", "house-gen-1",
+        "--no-preview", "--quiet",
         "--out", "houses", cwd=work,
     )  # fmt: skip
     assert out.returncode == 0, out.stderr

@@ -25,6 +25,7 @@ def test_generate_writes_houses(tmp_path):
         assert (d / "house.xml").exists() and (d / "preview.png").exists()
         spec = json.loads((d / "spec.json").read_text())
         assert spec["size_class"] == "small" and spec["house_id"] == hid
+        assert spec["generator_version"] == "house-gen-2"  # the default generator
     table = json.loads((tmp_path / "categories.json").read_text())
     assert table["ids"]["background"] == 0 and len(table["ids"]) >= 55
 

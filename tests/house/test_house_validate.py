@@ -11,7 +11,7 @@ from objsearch.house.validate import check_interpenetration, validate_house
 
 
 def test_overlapping_object_is_reported():
-    spec = generate_house(3).spec
+    spec = generate_house(3, generator="house-gen-1").spec
     sofa = next(o for o in spec.objects if o.category == "sofa")
     other = next(
         o for o in spec.objects if o.room == sofa.room and o.placement in ("wall", "corner") and o.name != sofa.name
@@ -22,7 +22,7 @@ def test_overlapping_object_is_reported():
 
 
 def test_object_in_a_wall_is_reported():
-    spec = generate_house(3).spec
+    spec = generate_house(3, generator="house-gen-1").spec
     obj = next(o for o in spec.objects if o.placement == "wall")
     wall = spec.walls[0]
     x = (wall.box[0] + wall.box[2]) / 2
@@ -34,7 +34,7 @@ def test_object_in_a_wall_is_reported():
 
 
 def test_closed_door_makes_a_room_unreachable():
-    spec = generate_house(3).spec
+    spec = generate_house(3, generator="house-gen-1").spec
     leaf = next(r for r in spec.rooms if sum(r.id in d.rooms for d in spec.doors) == 1)
     door = next(d for d in spec.doors if leaf.id in d.rooms)
     t = spec.wall_thickness / 2
@@ -47,7 +47,7 @@ def test_closed_door_makes_a_room_unreachable():
 
 
 def test_occupancy_grid_keeps_agent_radius_from_walls():
-    spec = generate_house(3).spec
+    spec = generate_house(3, generator="house-gen-1").spec
     grid = occupancy_grid(spec, resolution=0.05, agent_radius=0.2)
     xs, ys = grid.centers()
     rr, cc = np.nonzero(grid.free)

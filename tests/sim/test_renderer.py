@@ -25,7 +25,7 @@ SIZE = 24  # tiny frames keep the module at a few seconds on llvmpipe
 
 @pytest.fixture(scope="module")
 def house():
-    return generate_house(3)  # small house, 76 geoms
+    return generate_house(3, generator="house-gen-1")  # small house, 76 geoms
 
 
 @pytest.fixture(scope="module")
@@ -263,7 +263,7 @@ def test_bogus_backend_is_a_clear_error():
         "from objsearch.house.generate import generate_house\n"
         "from objsearch.sim.renderer import HouseRenderer, RenderBackendError\n"
         "from objsearch.errors import UserError\n"
-        "model = generate_house(3).model\n"
+        "model = generate_house(3, generator='house-gen-1').model\n"
         "os.environ['MUJOCO_GL'] = 'nosuchgl'\n"
         "try:\n"
         "    HouseRenderer(model)\n"

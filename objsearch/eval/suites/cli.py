@@ -46,7 +46,10 @@ def add_parser(subparsers) -> None:
 
     make = commands.add_parser("make", help="make a suite file from houses written by objsearch generate")
     make.add_argument(
-        "--houses", required=True, metavar="DIR", help="folder of house folders (objsearch generate --out DIR)"
+        "--houses",
+        required=True,
+        metavar="DIR",
+        help="folder of house folders (objsearch generate --out DIR: house-gen-2 houses by default)",
     )
     make.add_argument("--out", required=True, metavar="FILE", help="the suite file to write (.json)")
     make.add_argument(
