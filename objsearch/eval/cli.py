@@ -152,6 +152,7 @@ def run(args: argparse.Namespace) -> int:
 
     from objsearch.cluster import check_address, one_math_thread
     from objsearch.eval.config import EvalConfig
+    from objsearch.eval.registry import recorded_spec
     from objsearch.eval.results import format_table
     from objsearch.eval.runner import evaluate
     from objsearch.eval.suites import DEFAULT_SUITE
@@ -163,7 +164,7 @@ def run(args: argparse.Namespace) -> int:
     if args.suite is None:
         args.suite = "gridworld" if args.maps or args.tasks else DEFAULT_SUITE
     config = EvalConfig(
-        agent=args.agent,
+        agent=recorded_spec(args.agent),  # a file agent's absolute path: replays find it from anywhere
         suite=args.suite,
         splits=tuple(args.splits or ()),
         seeds=args.seeds,

@@ -43,6 +43,17 @@ def is_file_spec(spec: str) -> bool:
     return module.endswith(".py") or "/" in module or os.sep in module
 
 
+def recorded_spec(spec: str, folder: str | None = None) -> str:
+    """``spec`` as a results file records it: a file agent's path made absolute (relative
+    paths are taken from ``folder``, default the current one), so that a replay from another
+    folder (``objsearch leaderboard verify`` from the repository root) finds the same file;
+    a name or ``module:Class`` as given."""
+    if not is_file_spec(spec):
+        return spec
+    module, _, attr = spec.rpartition(":")
+    return f"{Path(folder or os.getcwd(), module).resolve().as_posix()}:{attr}"
+
+
 def _import_file(path: Path, what: str):
     """The Python file ``path`` loaded as a module (once per process; registered in
     ``sys.modules`` under a name made from its absolute path, so its classes pickle)."""

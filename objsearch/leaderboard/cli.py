@@ -112,8 +112,14 @@ def _writing(root: str | Path):
 
 
 def default_name(agent: str) -> str:
-    """An entry name from an agent spec: ``mypkg.mymodule:MyAgent`` gives ``mypkg.mymodule.MyAgent``;
-    characters a name cannot hold become ``_``."""
+    """An entry name from an agent spec: ``mypkg.mymodule:MyAgent`` gives ``mypkg.mymodule.MyAgent``,
+    a file agent ``/path/to/seek_agent.py:SeekAgent`` gives ``seek_agent.SeekAgent`` (the file's
+    module name, as if imported); characters a name cannot hold become ``_``."""
+    from objsearch.eval.registry import is_file_spec
+
+    if is_file_spec(agent):
+        path, _, attr = agent.rpartition(":")
+        agent = f"{Path(path).stem}:{attr}"
     return re.sub(r"[^A-Za-z0-9_.-]", "_", agent.replace(":", ".")).lstrip("_.-")
 
 

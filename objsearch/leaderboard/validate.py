@@ -28,6 +28,7 @@ import numpy as np
 from objsearch.errors import UserError
 from objsearch.eval.config import PAPER_SEEDS, EvalConfig
 from objsearch.eval.metrics import episode_spl, summarize
+from objsearch.eval.registry import is_file_spec
 from objsearch.eval.results import SCHEMA_VERSION
 from objsearch.eval.runner import run_units
 from objsearch.eval.runs import agent_of
@@ -149,10 +150,11 @@ def _format(pattern: str, what: str, optional: bool = False) -> tuple:
 ENTRY_NAME = re.compile(r"[A-Za-z0-9][A-Za-z0-9_.-]{0,99}")  # fullmatch: "abc\n" is no name
 _NAME_CHARS = "a letter or digit, then letters, digits, '_', '.' or '-'"
 _NAME = _format(ENTRY_NAME.pattern, f"a name: {_NAME_CHARS} (at most 100 characters)")
+# a file agent is recorded by its absolute path (objsearch.eval.registry.recorded_spec): any path a checkpoint may have
 _AGENT = _format(
-    r"[A-Za-z0-9_./:-]{1,200}",
-    "an agent name, module:Class or path/file.py:Class of letters, digits, '_', '.', '/', ':' or '-' "
-    "(at most 200 characters)",
+    r"[A-Za-z0-9_./:-]{1,200}|[^\x00-\x1f\x7f-\x9f\u2028\u2029]{1,1024}\.py:[A-Za-z_][A-Za-z0-9_.]{0,199}",
+    "an agent name or module:Class of letters, digits, '_', '.', '/', ':' or '-' (at most 200 characters), "
+    "or path/file.py:Class (a path of at most 1024 characters, no control characters)",
 )
 _VERSION = _format(
     r"[A-Za-z0-9][A-Za-z0-9_.:+!-]{0,99}",
@@ -456,6 +458,13 @@ def verify_submission(results: dict, k: int = VERIFY_EPISODES) -> list[str]:
     problems = check_submission(results)
     if problems:
         return problems
+    if is_file_spec(results["agent"]):
+        path = Path(results["agent"].rpartition(":")[0])
+        if not path.is_file():
+            return [
+                f"its agent file {path.resolve()} is missing: replay loads the file the evaluation recorded; "
+                "put the file back there, or evaluate again and add the new results with --replace"
+            ]
     c = results["config"]
     config = EvalConfig(
         agent=results["agent"],
