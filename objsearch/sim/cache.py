@@ -1,4 +1,4 @@
-"""Observations pre-rendered at every pose of a house, memory-mapped (the paper's protocol).
+"""Observations pre-rendered at every pose of a house (the paper's protocol).
 
 A cache lives in ``<cache dir>/<house_id>-<key>/`` with ``rgb.npy`` uint8 (P, H, W, 3),
 ``depth.npy`` uint16 (P, H, W) millimetres, ``semantic.npy`` uint8 (P, H, W) and ``meta.json``
@@ -16,6 +16,13 @@ cache, so rebuilding is always right. ``objsearch cache verify`` checks caches w
 opening them, ``objsearch cache clear`` removes them. Builds of one cache are serialised by
 a lock file (``.<name>.lock``, there while it is held), so concurrent builders build it once; temp folders of killed
 builds are removed when a build starts (``fileio.abandoned_temp_folders``).
+
+Memory: a process opens each cache folder once (``open_layers``: every env of a batched
+evaluation that plays the house shares it) and lets go of it when its last user does (the
+env holds only the house in play). The env reads each step's frames from the files
+(``CacheLayers.frame``, ``pread``): nothing is mapped, so memory does not grow with the
+poses or houses visited; whole layers (``.rgb``, ``.depth``, ``.semantic``) are
+memory-mapped on first use, for gathers over many poses (training, goal poses).
 
 Depth is rounded to the millimetre in both modes (``quantize_depth``), so live and cached
 observations are identical.
@@ -35,6 +42,7 @@ import json
 import os
 import shutil
 import sys
+import weakref
 from pathlib import Path
 from typing import Protocol
 
@@ -120,21 +128,104 @@ def _check_depth_range(settings: RenderSettings) -> None:
         )
 
 
-class HouseCache:
-    """The memory-mapped observations of every pose of one house."""
+class CacheLayers:
+    """The layer files of one cache folder, opened once per process (``open_layers``).
+
+    Two ways in: ``frame(layer, pose)`` reads one pose's frame with ``pread`` (what the env
+    does each step: nothing stays mapped, so the process's memory does not grow with the
+    poses and houses it visits), and the attributes ``rgb``, ``depth``, ``semantic``: the
+    whole layer, memory-mapped on first use (for gathers over many poses). The files
+    close, and the maps go, when the last user drops the object (it is shared: no ``close``).
+    """
 
     def __init__(self, directory: Path, meta: dict):
         self.directory = directory
         self.meta = meta
-        # plain ndarray views of the memory maps: indexing them is several times faster
-        self.rgb = np.asarray(np.load(directory / "rgb.npy", mmap_mode="r"))
-        self.depth = MillimetreDepth(np.asarray(np.load(directory / "depth.npy", mmap_mode="r")))
-        self.semantic = np.asarray(np.load(directory / "semantic.npy", mmap_mode="r"))
+        self._maps: dict[str, np.ndarray] = {}
+        self._depth: MillimetreDepth | None = None
+        self._files: dict[str, tuple[int, int, tuple, np.dtype]] = {}  # layer -> (fd, data offset, frame shape, dtype)
+        self._close = weakref.finalize(self, _close_files, self._files)
 
     @property
     def num_poses(self) -> int:
         """Number of poses (frames) in the cache."""
-        return len(self.semantic)
+        return int(self.meta["num_poses"])
+
+    def _layer(self, name: str) -> np.ndarray:
+        if name not in self._maps:
+            # a plain ndarray view of the memory map: indexing it is several times faster
+            self._maps[name] = np.asarray(np.load(self.directory / f"{name}.npy", mmap_mode="r"))
+        return self._maps[name]
+
+    def _millimetres(self) -> MillimetreDepth:
+        if self._depth is None:
+            self._depth = MillimetreDepth(self._layer("depth"))
+        return self._depth
+
+    depth = property(_millimetres, doc="Depth of every pose, float32 metres (memory-mapped).")
+    semantic = property(lambda self: self._layer("semantic"), doc="Category ids of every pose (memory-mapped).")
+
+    def frame(self, name: str, pose: int) -> np.ndarray:
+        """A new array holding layer ``name``'s frame of ``pose`` (``depth``: float32 metres),
+        read from the file: the same values as ``getattr(self, name)[pose]``."""
+        return self.frames(name, pose, pose + 1, squeeze=True)
+
+    def frames(self, name: str, start: int, stop: int, squeeze: bool = False) -> np.ndarray:
+        """A new array holding layer ``name``'s frames of poses ``start:stop`` (``depth``:
+        float32 metres), read from the file (``squeeze``: of the one pose ``start``, without
+        the first axis): the same values as ``getattr(self, name)[start:stop]``."""
+        if name not in self._files:
+            self._files[name] = _open_layer(self.directory / f"{name}.npy")
+        fd, offset, shape, dtype = self._files[name]
+        stop = min(stop, self.num_poses)
+        if not 0 <= start < stop:
+            raise IndexError(f"poses {start}:{stop} are out of range for {self.num_poses} poses ({self.directory})")
+        out = np.empty(shape if squeeze else (stop - start, *shape), dtype)
+        size = out.nbytes // (stop - start)
+        if os.preadv(fd, [out], offset + start * size) != out.nbytes:
+            raise OSError(f"{self.directory / name}.npy: short read (truncated?)")
+        return np.divide(out, _MM, dtype=np.float32) if name == "depth" else out
+
+
+def _open_layer(path: Path) -> tuple[int, int, tuple, np.dtype]:
+    """(fd, offset of the data, shape of one frame, dtype) of an ``.npy`` layer file."""
+    mapped = np.load(path, mmap_mode="r")  # numpy reads the header; the map goes at once, untouched
+    offset, shape, dtype, c_order = mapped.offset, mapped.shape, mapped.dtype, mapped.flags.c_contiguous
+    del mapped
+    if not c_order:
+        raise ValueError(f"{path} is not stored in C order, as caches are written; rebuild it")
+    return os.open(path, os.O_RDONLY | getattr(os, "O_CLOEXEC", 0)), offset, tuple(shape[1:]), dtype
+
+
+def _close_files(files: dict) -> None:
+    for fd, *_ in files.values():
+        os.close(fd)
+    files.clear()
+
+
+_OPEN: weakref.WeakValueDictionary = weakref.WeakValueDictionary()  # cache folder -> its CacheLayers in use
+
+
+def open_layers(cls, directory: Path, meta: dict):
+    """The ``cls`` of ``directory`` already in use in this process if it was made for the
+    same ``meta`` (the same files), else a new one: every env of a batched evaluation that
+    plays a house reads it through one set of files and maps."""
+    layers = _OPEN.get(directory)
+    if type(layers) is not cls or layers.meta != meta:
+        layers = _OPEN[directory] = cls(directory, meta)
+    return layers
+
+
+def open_cache_folders() -> list[Path]:
+    """The cache folders this process has open (``CacheLayers`` not yet released)."""
+    return list(_OPEN.keys())
+
+
+class HouseCache(CacheLayers):
+    """The observations of every pose of one house (``CacheLayers``: read frame by frame,
+    or memory-mapped)."""
+
+    rgb = property(lambda self: self._layer("rgb"), doc="RGB of every pose (memory-mapped).")
 
     @classmethod
     def open(
@@ -177,7 +268,7 @@ class HouseCache:
                 )
 
         meta = _ensure_folder(directory, expected, layers, render, f"cache {world.house_id}")
-        return cls(directory, meta)
+        return open_layers(cls, directory, meta)
 
 
 def _ensure_folder(directory: Path, expected: dict, layers: dict, fill, what: str) -> dict:
@@ -353,18 +444,13 @@ class Predictor(Protocol):
         ...
 
 
-class PredictedCache:
-    """A predictor's semantic and depth at every pose of one house, memory-mapped.
+class PredictedCache(CacheLayers):
+    """A predictor's semantic and depth at every pose of one house (``CacheLayers``: read
+    frame by frame, or memory-mapped).
 
     Built from the house's ``HouseCache`` RGB (rendered first if needed); depth is rounded
     to the millimetre like the ground truth's (stored as uint16 millimetres).
     """
-
-    def __init__(self, directory: Path, meta: dict):
-        self.directory = directory
-        self.meta = meta
-        self.depth = MillimetreDepth(np.asarray(np.load(directory / "depth.npy", mmap_mode="r")))
-        self.semantic = np.asarray(np.load(directory / "semantic.npy", mmap_mode="r"))
 
     @classmethod
     def open(
@@ -397,19 +483,19 @@ class PredictedCache:
             "settings": settings.to_json(),
             "num_poses": gt.num_poses,
         }
-        n, h, w = gt.semantic.shape
+        n, h, w = gt.num_poses, settings.height, settings.width
         layers = {"depth": (np.uint16, (n, h, w)), "semantic": (np.uint8, (n, h, w))}
 
         def predict(tmp: Path) -> None:
             def batches():
                 for start in range(0, n, BATCH):
-                    semantic, depth = predictor.predict(gt.rgb[start : start + BATCH])
+                    semantic, depth = predictor.predict(gt.frames("rgb", start, start + BATCH))  # not mapped: read once
                     yield start, {"semantic": semantic, "depth": depth_to_mm(quantize_depth(depth))}
 
             _fill_arrays(tmp, layers, batches(), f"predict {world.house_id}", progress)
 
         meta = _ensure_folder(directory, expected, layers, predict, f"predicted cache {world.house_id}")
-        return cls(directory, meta)
+        return open_layers(cls, directory, meta)
 
 
 # -- managing a cache folder (objsearch cache list / verify / clear) --------------------

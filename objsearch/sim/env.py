@@ -157,7 +157,7 @@ class HouseEnv(gymnasium.Env):
     ## Arguments
     ``houses``: HouseRefs, or loaded ``World``s (envs that play side by side share them)
     (default: the house of generator seed 0). ``mode``: ``cached``
-    (every pose pre-rendered, memory-mapped; ``objsearch.sim.cache``) or ``live`` (render
+    (every pose pre-rendered, read from the cache files; ``objsearch.sim.cache``) or ``live`` (render
     each step); both give identical observations. ``settings``: the agent's camera
     (default ``objsearch.sim.camera.AGENT_CAMERA``; goal poses always come from
     ``objsearch.sim.goals.GOAL_CAMERA``). ``cache_dir``.
@@ -236,9 +236,10 @@ class HouseEnv(gymnasium.Env):
         self.action_space = spaces.Discrete(NUM_MOVE_ACTIONS + (1 if stop_action else 0))
         self._loaded: dict[int, World] = {}  # index in refs -> house
         self._worlds: dict[str, World] = {}  # house id -> house
-        self._sources: dict[str, Any] = {}  # house id -> HouseCache or HouseRenderer
-        self._goal_cache: dict[str, HouseCache] = {}
-        self._predicted: dict[str, PredictedCache] = {}  # house id -> predictions (cached + predicted)
+        self._sources: dict[str, Any] = {}  # live mode: house id -> HouseRenderer
+        # cached mode: only the current house's caches are held (the previous house's are released
+        # when another starts; envs of one process share a house's files: cache.open_layers)
+        self._source_now = None  # the current house's frames: HouseCache (cached) or HouseRenderer (live)
         self._labels_now = None  # cached mode: the current house's semantic and depth (see _labels)
         self._goals: dict[tuple, np.ndarray] = {}  # (house, target) -> goal pose ids
         self._steps_to: dict[tuple, np.ndarray] = {}  # (house, goal ids) -> steps from every pose
@@ -265,25 +266,31 @@ class HouseEnv(gymnasium.Env):
         return self._worlds[house_id]
 
     def _source(self, world: World):
+        """The house's frames: its ``HouseCache`` (cached mode; not kept here) or its renderer (live)."""
+        if self.mode == "cached":
+            return HouseCache.open(world, self.settings, self.cache_dir)
         if world.house_id not in self._sources:
-            if self.mode == "cached":
-                self._sources[world.house_id] = HouseCache.open(world, self.settings, self.cache_dir)
-            else:
-                from objsearch.sim.renderer import HouseRenderer
+            from objsearch.sim.renderer import HouseRenderer
 
-                self._sources[world.house_id] = HouseRenderer(world.model, self.settings)
+            self._sources[world.house_id] = HouseRenderer(world.model, self.settings)
         return self._sources[world.house_id]
 
     def _labels(self, world: World):
         """Where cached ``semantic`` and ``depth`` come from: the house's cache, or (predicted
-        mode) the network's predictions of its RGB."""
+        mode) the network's predictions of its RGB (not kept here)."""
         if self.observation != "predicted":
             return self._source(world)
-        if world.house_id not in self._predicted:
-            self._predicted[world.house_id] = PredictedCache.open(world, self.settings, self.predictor, self.cache_dir)
-        return self._predicted[world.house_id]
+        return PredictedCache.open(world, self.settings, self.predictor, self.cache_dir)
 
     def _attach(self, world: World) -> None:
+        """Make ``world`` the house observed; in cached mode, the previous house's caches are
+        let go (closed once no env of the process holds them), and so are the distances
+        memoised in other houses (computed again if one comes back)."""
+        source = self._source_now
+        if self.mode == "cached" and getattr(source, "meta", {}).get("house_id") == world.house_id:
+            return  # the same house again (a cache folder is one house's)
+        self._source_now = self._labels_now = None  # released before the next house's are opened
+        self._steps_to = {key: dist for key, dist in self._steps_to.items() if key[0] == world.house_id}
         self._source_now = self._source(world)
         self._labels_now = self._labels(world) if self.mode == "cached" else None
 
@@ -291,9 +298,7 @@ class HouseEnv(gymnasium.Env):
         """Goal poses of ``target`` by the goal rule (renders the goal camera's cache)."""
         key = (world.house_id, target)
         if key not in self._goals:
-            if world.house_id not in self._goal_cache:
-                self._goal_cache[world.house_id] = HouseCache.open(world, GOAL_CAMERA, self.cache_dir)
-            cache = self._goal_cache[world.house_id]
+            cache = HouseCache.open(world, GOAL_CAMERA, self.cache_dir)  # shared; let go after
             self._goals[key] = goal_poses(cache.semantic, cache.depth, CATEGORY_IDS[target], self.goal_rule)
         return self._goals[key]
 
@@ -397,17 +402,17 @@ class HouseEnv(gymnasium.Env):
         return None
 
     def close(self):
-        """Close the env's frame sources (renderers, caches); the episode is over."""
+        """Close the env's frame sources (renderers) and let go of its caches; the episode is over."""
         for source in self._sources.values():
             if hasattr(source, "close"):
                 source.close()
         self._sources.clear()
+        self._source_now = self._labels_now = None  # a cache is shared: closed when its last user lets go
         self._done = True
 
     def __getstate__(self):
         state = dict(self.__dict__)
-        state["_sources"], state["_goal_cache"], state["_source_now"] = {}, {}, None
-        state["_predicted"], state["_labels_now"] = {}, None
+        state["_sources"], state["_source_now"], state["_labels_now"] = {}, None, None
         return state
 
     def __setstate__(self, state):
@@ -431,11 +436,12 @@ class HouseEnv(gymnasium.Env):
         if self.mode == "cached":
             p = self._pose
             labels = self._labels_now
-            # copies: the caller owns what it is given (Gymnasium's contract)
+            # read from the files, not mapped: new arrays (the caller owns what it is given,
+            # Gymnasium's contract), and memory does not grow with the poses visited
             return {
-                "rgb": source.rgb[p].copy(),
-                "depth": labels.depth[p].copy(),
-                "semantic": labels.semantic[p].copy(),
+                "rgb": source.frame("rgb", p),
+                "depth": labels.frame("depth", p),
+                "semantic": labels.frame("semantic", p),
                 **state,
             }
         frames = source.render(self._world.graph.world_poses([self._pose]))
