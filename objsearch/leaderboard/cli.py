@@ -55,7 +55,9 @@ def add_parser(subparsers) -> None:
         help=f"episodes replayed per entry, chosen by a hash of its content (default: {VERIFY_EPISODES})",
     )
     verify.set_defaults(func=run_verify)
-    render = commands.add_parser("render", help="regenerate README.md and index.html from the stored submissions")
+    render = commands.add_parser(
+        "render", help="regenerate the pages, and the results table of the README beside --dir, from the stored entries"
+    )
     render.set_defaults(func=run_render)
 
 

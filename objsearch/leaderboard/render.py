@@ -421,10 +421,13 @@ def _write_together(texts: dict[Path, str]) -> None:
 
 def render(root: str | Path, add: tuple[Path, dict] | None = None) -> list[Path]:
     """Regenerate ``README.md``, ``index.html`` and ``paper_tables.md`` under ``root`` from its
-    stored submissions; with ``add`` (path, results), store that submission as well, in the same
-    write. Nothing is replaced unless every file is written. Returns the paths written.
+    stored submissions, and the results table of the project's README (``headline``); with
+    ``add`` (path, results), store that submission as well, in the same write. Nothing is
+    replaced unless every file is written. Returns the paths written.
 
     Two writers at once would lose pages: callers hold the leaderboard's lock (the CLI does)."""
+    from objsearch.leaderboard.headline import headline_tables, project_readme, with_headline
+
     root = Path(root)
     entries, texts = _stored(root), {}
     if add is not None:
@@ -438,5 +441,8 @@ def render(root: str | Path, add: tuple[Path, dict] | None = None) -> list[Path]
     relations = relations_rows(full)
     texts[root / "index.html"] = render_html(tables, relations)
     texts[root / "paper_tables.md"] = render_paper_tables(full, relations)
+    readme = project_readme(root)
+    if readme is not None:  # the project's README.md, when it holds the results table's markers
+        texts[readme] = with_headline(readme.read_text(encoding="utf-8"), headline_tables(full), readme)
     _write_together(texts)
     return list(texts)
