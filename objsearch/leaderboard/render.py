@@ -392,10 +392,17 @@ def page_template() -> str:
 def render_html(tables: dict, relations: list[dict] = ()) -> str:
     """``index.html``: the page template with ``tables`` and the paper's rows as its data, as
     JSON that cannot end its script element: ``<``, ``>`` and ``&`` are written as ``\\u003c``,
-    ``\\u003e`` and ``\\u0026`` (the same strings to the script), U+2028/9 as ``\\u2028/9``."""
+    ``\\u003e`` and ``\\u0026`` (the same strings to the script), U+2028/9 as ``\\u2028/9``.
+    The suites come in the page's order: the default suite first, then the registry's, then others."""
+    from objsearch.eval.suites import DEFAULT_SUITE, SUITES
+
+    order = [DEFAULT_SUITE, *(suite for suite in SUITES if suite != DEFAULT_SUITE)]
+    rank = lambda suite: (order.index(suite), "") if suite in order else (len(order), suite)
+    tables = {suite: tables[suite] for suite in sorted(tables, key=rank)}
     paper = {suite: {split: paper_rows(suite, split) for split in splits} for suite, splits in tables.items()}
     data = json.dumps(
-        {"tables": tables, "paper": paper, "relations": list(relations)}, ensure_ascii=True
+        {"tables": tables, "paper": paper, "relations": list(relations), "default_suite": DEFAULT_SUITE},
+        ensure_ascii=True,
     )  # ensure_ascii: also U+2028/9
     for char in "<>&":  # outside strings JSON has none of them
         data = data.replace(char, f"\\u{ord(char):04x}")
