@@ -1,6 +1,8 @@
 """The results table objsearch-eval prints explains itself: its last line says what every
 column and row label means."""
 
+from test_metrics import rec
+
 from objsearch.eval.metrics import summarize
 from objsearch.eval.results import TABLE_LEGEND, format_table
 
@@ -17,19 +19,7 @@ def results(records: list[dict], training_runs: list[dict] = ()) -> dict:
     }
 
 
-def record(success: bool, steps: int, min_steps: int, seed: int, episode_id: int, run=None) -> dict:
-    return {
-        "success": success,
-        "steps": steps,
-        "min_steps": min_steps,
-        "seed": seed,
-        "episode_id": episode_id,
-        "goal": "g0",
-        "training_run": run,
-    }
-
-
-RECORDS = [record(True, 12, 6, seed, 0) for seed in (1, 5)] + [record(False, 100, 30, seed, 1) for seed in (1, 5)]
+RECORDS = [rec(True, 12, 6, seed, 0) for seed in (1, 5)] + [rec(False, 100, 30, seed, 1) for seed in (1, 5)]
 
 
 def test_the_table_ends_with_a_legend_of_its_labels():
