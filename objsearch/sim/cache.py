@@ -50,7 +50,7 @@ import numpy as np
 from tqdm import tqdm
 
 from objsearch.digests import sha256_file
-from objsearch.fileio import abandoned_temp_folders, atomic_directory
+from objsearch.fileio import abandoned_temp_folders, atomic_directory, full_disk_as_error, reserve
 from objsearch.sim.camera import AGENT_CAMERA, AGENT_CAMERA_NAME, RenderSettings, check_predictor_camera
 from objsearch.sim.navgraph import NAVGRAPH_VERSION
 from objsearch.sim.renderer import HouseRenderer
@@ -295,7 +295,9 @@ def _ensure_folder(directory: Path, expected: dict, layers: dict, fill, what: st
         for stale in abandoned_temp_folders(directory.parent):
             shutil.rmtree(stale, ignore_errors=True)
             print(f"removed {stale} (left by an interrupted build)", file=sys.stderr)
-        with atomic_directory(directory) as tmp:
+        needed = sum(np.dtype(dtype).itemsize * int(np.prod(shape)) for dtype, shape in layers.values())
+        elsewhere = "pass a cache folder on a disk with room (--cache-dir or $OBJSEARCH_CACHE)"
+        with full_disk_as_error(directory, elsewhere, needed), atomic_directory(directory) as tmp:
             fill(tmp)
             meta = {**expected, "files": {f"{name}.npy": _file_record(tmp / f"{name}.npy") for name in layers}}
             (tmp / "meta.json").write_text(json.dumps(meta, indent=1) + "\n")
@@ -414,11 +416,14 @@ def _home_short(path: Path) -> str:
 
 def _fill_arrays(folder: Path, layers: dict, batches, desc: str, progress: bool) -> None:
     """Create ``<name>.npy`` memory maps of ``layers`` ({name: (dtype, shape)}) in ``folder``
-    and fill them from ``batches`` of (first pose, {name: values})."""
+    and fill them from ``batches`` of (first pose, {name: values}). The files' space is
+    reserved first: a full disk is an ``OSError`` here, not a SIGBUS while filling."""
     arrays = {
         name: np.lib.format.open_memmap(folder / f"{name}.npy", mode="w+", dtype=dtype, shape=shape)
         for name, (dtype, shape) in layers.items()
     }
+    for name in arrays:
+        reserve(folder / f"{name}.npy")
     total = len(next(iter(arrays.values())))
     with tqdm(total=total, desc=desc, unit="pose", disable=not progress or None) as bar:
         for start, values in batches:

@@ -15,7 +15,7 @@ from objsearch.leaderboard.render import render
 ROOT = Path(__file__).resolve().parents[2]
 
 
-def test_the_readme_results_table_is_the_leaderboard_s(tmp_path):
+def test_the_readme_results_table_matches_the_leaderboard(tmp_path):
     """As ``objsearch leaderboard render`` rewrites it from the stored entries: a README edited by
     hand, or an entry added without rendering, fails here."""
     assert BEGIN in (ROOT / "README.md").read_text(), "README.md holds the generated results table"
