@@ -317,7 +317,7 @@ class TrainRun:
     # -- the loop -------------------------------------------------------------------------------
     def run(self, progress: bool = True) -> bool:
         """Train until ``config.episodes`` episodes have finished, checkpointing as it goes.
-        Returns False if interrupted (Ctrl-C: the current step finishes, then a checkpoint
+        Returns False if interrupted (Ctrl-C or SIGTERM: the current step finishes, then a checkpoint
         is written)."""
         c, k = self.config, self.counters
         with stop_on_interrupt() as stop:

@@ -41,15 +41,28 @@ def build_parser() -> argparse.ArgumentParser:
 
 
 def _run(parser: argparse.ArgumentParser, argv: list[str]) -> int:
+    """Run the parsed command: bad input, a full disk and an interrupt end with one line on
+    stderr (never a traceback) and their exit status (2, 2, 130 for Ctrl-C, 143 for SIGTERM)."""
+    from objsearch.fileio import full_disk_error
+    from objsearch.interrupt import interrupt_status, interrupted_line, sigterm_as_interrupt
+
     args = parser.parse_args(argv)
     try:
-        return int(args.func(args) or 0)
+        with sigterm_as_interrupt():
+            return int(args.func(args) or 0)
     except UserError as err:
         print(f"{parser.prog}: error: {err}", file=sys.stderr)
         return err.exit_code
-    except KeyboardInterrupt:
-        print(f"{parser.prog}: interrupted", file=sys.stderr)
-        return 130
+    except KeyboardInterrupt as err:  # its message, if any, says what was saved and how to resume
+        status = interrupt_status(err)
+        print(f"{parser.prog}: {interrupted_line(status, str(err))}", file=sys.stderr)
+        return status
+    except OSError as err:
+        full = full_disk_error(err, err.filename)  # a write that no command's own check named
+        if full is None:
+            raise
+        print(f"{parser.prog}: error: {full}", file=sys.stderr)
+        return full.exit_code
 
 
 def main(argv: list[str] | None = None) -> int:

@@ -100,6 +100,10 @@ def die_with_parent(parent: int) -> None:
 
 
 def _start_worker(parent: int, initializer: Callable | None, initargs: tuple) -> None:
+    # Ctrl-C and SIGTERM reach the whole process group; the parent alone decides what to
+    # save and stops its workers (local_pool), instead of each dying with a traceback.
+    for signum in (signal.SIGINT, signal.SIGTERM):
+        signal.signal(signum, signal.SIG_IGN)
     die_with_parent(parent)
     one_math_thread()
     if initializer is not None:
@@ -109,8 +113,10 @@ def _start_worker(parent: int, initializer: Callable | None, initargs: tuple) ->
 @contextlib.contextmanager
 def local_pool(workers: int, initializer: Callable | None = None, initargs: tuple = ()):
     """Spawned worker processes (no fork: torch and EGL dislike it) that run one math
-    thread and die with this process; on an error (Ctrl-C, a crash) they are stopped at
-    once, not after their tasks."""
+    thread, ignore SIGINT and SIGTERM and die with this process; on an error (Ctrl-C,
+    SIGTERM, a crash) they are killed at once, not after their tasks. Futures are not
+    cancelled: the pool marks the unfinished ones broken (cancelling them as well made
+    Python 3.11's pool thread fail with InvalidStateError)."""
     pool = cf.ProcessPoolExecutor(
         workers,
         mp_context=multiprocessing.get_context("spawn"),
@@ -121,8 +127,8 @@ def local_pool(workers: int, initializer: Callable | None = None, initargs: tupl
         yield pool
     except BaseException:
         for process in list((getattr(pool, "_processes", None) or {}).values()):  # private, but no public way
-            process.terminate()
-        pool.shutdown(wait=False, cancel_futures=True)
+            process.kill()
+        pool.shutdown(wait=False)
         raise
     pool.shutdown()
 

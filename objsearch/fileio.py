@@ -14,21 +14,85 @@ import tempfile
 import time
 from pathlib import Path
 
+FULL_DISK = (errno.ENOSPC, errno.EDQUOT)
+
+
+def full_disk_error(
+    err: OSError, path: str | os.PathLike | None, elsewhere: str = "write elsewhere", needed: int | None = None
+):
+    """The ``UserError`` for ``err`` if it is a full disk (or quota) while writing ``path``,
+    naming the path, the space ``needed`` (bytes, if known) and left, and the fix (free
+    space, or ``elsewhere``: e.g. "choose another --out"); None for any other error."""
+    from objsearch.errors import UserError
+
+    if not isinstance(err, OSError) or err.errno not in FULL_DISK:
+        return None
+    where = Path(path).absolute() if path is not None else None
+    folder = where.parent if where is not None else None
+    while folder is not None and not folder.exists():
+        folder = folder.parent
+    try:
+        free = f"{_megabytes(shutil.disk_usage(folder).free)} free" if folder is not None else "no space left"
+    except OSError:
+        free = "no space left"
+    if needed is not None:
+        free = f"{_megabytes(needed)} needed, {free}"
+    what = f"cannot write {where}" if where is not None else "cannot write a file"
+    return UserError(
+        f"{what}: {err.strerror or 'no space left on device'} ({free}); free some space there or {elsewhere}"
+    )
+
+
+def _megabytes(size: int) -> str:
+    return f"{size / 1e6:.1f} MB" if size >= 1e5 else f"{size / 1e3:.0f} KB"
+
 
 @contextlib.contextmanager
-def atomic_write(path: str | os.PathLike, mode: str = "w"):
-    """Open a temp file beside ``path``; on success rename it over ``path``, on error delete it."""
-    path = Path(path)
-    path.parent.mkdir(parents=True, exist_ok=True)
-    fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=f".{path.name}.", suffix=".tmp")
-    os.chmod(tmp, 0o666 & ~_umask())  # mkstemp makes 0600; give the file the usual mode
+def full_disk_as_error(path: str | os.PathLike, elsewhere: str = "write elsewhere", needed: int | None = None):
+    """Turn a full disk while writing ``path`` in the block into ``full_disk_error``'s ``UserError``."""
     try:
-        with os.fdopen(fd, mode) as f:
-            yield f
-        os.replace(tmp, path)
-    except BaseException:
-        Path(tmp).unlink(missing_ok=True)
-        raise
+        yield
+    except OSError as err:
+        full = full_disk_error(err, path, elsewhere, needed)
+        if full is None:
+            raise
+        raise full from None
+
+
+def reserve(path: str | os.PathLike) -> None:
+    """Allocate the disk blocks of the file ``path`` up to its size (``os.posix_fallocate``),
+    so that writing it through a memory map cannot hit a full disk, which would kill the
+    process with SIGBUS: a full disk is an ``OSError`` (ENOSPC) here instead. Filesystems
+    that cannot allocate ahead are left as they are."""
+    fd = os.open(path, os.O_RDWR)
+    try:
+        os.posix_fallocate(fd, 0, os.fstat(fd).st_size)
+    except OSError as err:
+        if err.errno in FULL_DISK:
+            raise
+    except AttributeError:  # no posix_fallocate on this platform
+        pass
+    finally:
+        os.close(fd)
+
+
+@contextlib.contextmanager
+def atomic_write(path: str | os.PathLike, mode: str = "w", elsewhere: str = "write elsewhere"):
+    """Open a temp file beside ``path``; on success rename it over ``path``, on error delete it
+    (``path`` keeps what it held). A full disk is a ``UserError`` naming ``path`` and the
+    fix (``full_disk_error``)."""
+    path = Path(path)
+    with full_disk_as_error(path, elsewhere):
+        path.parent.mkdir(parents=True, exist_ok=True)
+        fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=f".{path.name}.", suffix=".tmp")
+        os.chmod(tmp, 0o666 & ~_umask())  # mkstemp makes 0600; give the file the usual mode
+        try:
+            with os.fdopen(fd, mode) as f:
+                yield f
+            os.replace(tmp, path)
+        except BaseException:
+            Path(tmp).unlink(missing_ok=True)
+            raise
 
 
 def _umask() -> int:
@@ -37,9 +101,9 @@ def _umask() -> int:
     return mask
 
 
-def write_json(path: str | os.PathLike, obj, indent: int | None = 1) -> None:
-    """Write ``obj`` as JSON atomically."""
-    with atomic_write(path) as f:
+def write_json(path: str | os.PathLike, obj, indent: int | None = 1, elsewhere: str = "write elsewhere") -> None:
+    """Write ``obj`` as JSON atomically (``elsewhere``: see ``atomic_write``)."""
+    with atomic_write(path, elsewhere=elsewhere) as f:
         json.dump(obj, f, indent=indent)
         f.write("\n")
 

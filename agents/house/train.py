@@ -349,7 +349,7 @@ class HouseTrainRun:
     # -- the loop ----------------------------------------------------------------------------------
     def run(self, progress: bool = True) -> bool:
         """Train until ``config.steps`` env steps, checkpointing as it goes. Returns False if
-        interrupted (Ctrl-C: the current step finishes, then a checkpoint is written)."""
+        interrupted (Ctrl-C or SIGTERM: the current step finishes, then a checkpoint is written)."""
         c, k = self.config, self.counters
         with stop_on_interrupt() as stop:
             desc = f"train {c.name}" + (" (pretrain)" if self.pool == "approach" else "")

@@ -5,6 +5,7 @@ die with the process that started them (``objsearch.cluster.local_pool``)."""
 
 from __future__ import annotations
 
+import concurrent.futures as cf
 from typing import Callable
 
 from objsearch.cluster import local_pool
@@ -52,8 +53,11 @@ def run_local(
             done([record])
         return
     with local_pool(workers, _init_worker, (config, video_dir, batch, folder, video_units)) as pool:
-        for part in pool.map(_run_chunk, chunks(units, workers, batch)):
-            done(part)
+        # as they finish, so that an interrupt keeps every finished chunk (not pool.map: it
+        # cancels the rest when interrupted, which local_pool must not see)
+        futures = [pool.submit(_run_chunk, chunk) for chunk in chunks(units, workers, batch)]
+        for future in cf.as_completed(futures):
+            done(future.result())
 
 
 def run_ray(

@@ -10,6 +10,9 @@ from typing import Iterable
 
 from objsearch.errors import UserError
 from objsearch.eval.config import EvalConfig, Unit
+from objsearch.fileio import atomic_write, full_disk_as_error, full_disk_error
+
+ELSEWHERE = "choose another --out"
 
 RECORD_KEYS = frozenset(("split", "seed", "episode_id", "success", "steps", "min_steps"))
 
@@ -27,8 +30,10 @@ class PartialResults:
         self.path = Path(path)
         header = {"partial_results_of": config.to_json()}
         self.records: list[dict] = []
+        rewrite = True  # a new file, or lines to drop
         if self.path.exists():
-            lines = self.path.read_text().splitlines()
+            text = self.path.read_text()
+            lines = text.splitlines()
             try:
                 first = json.loads(lines[0]) if lines else None
             except json.JSONDecodeError:
@@ -44,12 +49,14 @@ class PartialResults:
                     f"{self.path} holds partial results of another evaluation ({_differences(stored, header['partial_results_of'])}); "
                     "rerun with those settings to resume it, or delete it or choose another --out to start afresh"
                 )
+            rewrite = not text.endswith("\n")  # appending to a cut line would spoil the next record
             for number, line in enumerate(lines[1:], start=2):
                 try:
                     record = json.loads(line)
                 except json.JSONDecodeError:
                     record = None
                     if number == len(lines):
+                        rewrite = True
                         break  # the write an interruption cut short
                 if not (isinstance(record, dict) and RECORD_KEYS <= record.keys()):
                     print(
@@ -57,13 +64,14 @@ class PartialResults:
                         "dropped, its episode runs again",
                         file=sys.stderr,
                     )
+                    rewrite = True
                     continue
                 self.records.append(record)
-            self.path.write_text("".join(json.dumps(x) + "\n" for x in [header, *self.records]))
-        else:
-            self.path.parent.mkdir(parents=True, exist_ok=True)
-            self.path.write_text(json.dumps(header) + "\n")
-        self._file = open(self.path, "a")
+        if rewrite:  # a full disk here leaves the records that were there
+            with atomic_write(self.path, elsewhere=ELSEWHERE) as f:
+                f.write("".join(json.dumps(x) + "\n" for x in [header, *self.records]))
+        with full_disk_as_error(self.path, ELSEWHERE):
+            self._file = open(self.path, "a")
 
     def done_units(self) -> set[Unit]:
         """The (split, seed, episode_id) units already finished."""
@@ -71,13 +79,18 @@ class PartialResults:
 
     def add(self, records: Iterable[dict]) -> None:
         """Append ``records`` and flush them to disk."""
-        for record in records:
-            self._file.write(json.dumps(record) + "\n")
-        self._file.flush()
+        with full_disk_as_error(self.path, ELSEWHERE):  # a line cut short is dropped on resume
+            for record in records:
+                self._file.write(json.dumps(record) + "\n")
+            self._file.flush()
 
     def close(self) -> None:
         """Close the file (it stays on disk until the results are written)."""
-        self._file.close()
+        try:
+            self._file.close()
+        except OSError as err:  # what a full disk kept of the last lines is dropped on resume
+            if full_disk_error(err, self.path) is None:
+                raise
 
 
 def _differences(stored: dict, now: dict, prefix: str = "") -> str:

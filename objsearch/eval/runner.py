@@ -17,11 +17,10 @@ plans the units and runs them.
 from __future__ import annotations
 
 import os
+import sys
 from dataclasses import replace
 from pathlib import Path
 from typing import Iterable
-
-from tqdm import tqdm
 
 from objsearch.cluster import EXECUTORS
 from objsearch.errors import UserError
@@ -30,6 +29,7 @@ from objsearch.eval.executors import run_local, run_ray
 from objsearch.eval.partial import PartialResults
 from objsearch.eval.runs import agent_of, run_config, training_runs
 from objsearch.eval.suites import check_splits, make_suite
+from objsearch.progress import progress_bar
 
 
 def run_units(
@@ -55,13 +55,9 @@ def run_units(
         raise UserError(f"unknown executor {executor!r}; choose one of {', '.join(EXECUTORS)}")
     finished = {(r["split"], r["seed"], r["episode_id"]): r for r in (partial.records if partial else [])}
     todo = [u for u in units if u not in finished]
-    bar = tqdm(
-        total=len(units),
-        initial=len(units) - len(todo),
-        desc=f"{config.agent} on {config.suite}",
-        unit="ep",
-        disable=not progress or None,
-    )
+    if partial and len(todo) < len(units):
+        print(f"resuming: {len(units) - len(todo)} of {len(units)} episodes done in {partial.path}", file=sys.stderr)
+    bar = progress_bar(len(units), f"{config.agent} on {config.suite}", "ep", progress, len(units) - len(todo))
 
     def done(records: list[dict]) -> None:
         for r in records:
@@ -77,6 +73,13 @@ def run_units(
             run_ray(config, todo, workers, address, video_dir, done, batch, folder, video_units)
         elif todo:
             run_local(config, todo, workers, video_dir, done, batch, folder, video_units)
+    except KeyboardInterrupt as err:  # Ctrl-C or SIGTERM: say what is kept (the CLI prints it)
+        kept = sum(u in finished for u in units)
+        if partial:
+            what = f"{kept} of {len(units)} episodes saved in {partial.path}; rerun the same command to resume"
+        else:
+            what = f"{kept} of {len(units)} episodes played, none saved (pass --out to keep them)"
+        raise type(err)(what) from None
     finally:
         bar.close()
     return [finished[u] for u in units]
@@ -175,7 +178,7 @@ def evaluate(
         records += [{**r, "training_run": play.training_run} for r in played] if several else played
     results = build_results(config if several else plays[0], suite, records, list(zip(runs, plays)))
     if out:
-        write_json(out, results)
+        write_json(out, results, elsewhere="choose another --out")
         for path in partial_paths:
             Path(path).unlink(missing_ok=True)
     return results

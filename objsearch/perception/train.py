@@ -12,8 +12,8 @@ Reproducible: the weights are initialised from ``torch.Generator`` seeded by ``s
 epoch e visits the frames in the order ``default_rng([seed, e]).permutation``; the
 augmentation of step s draws from a ``torch.Generator`` seeded by (seed, s). So a resumed
 run continues exactly as an uninterrupted one would (on the same device and threads).
-Re-running the same command resumes from ``state.pt``; Ctrl-C finishes the current step,
-writes a checkpoint and exits with 130.
+Re-running the same command resumes from ``state.pt``; Ctrl-C (or SIGTERM) finishes the current
+step, writes a checkpoint and exits with 130 (143).
 """
 
 from __future__ import annotations
@@ -254,7 +254,7 @@ class TrainRun:
         torchfile.save(self.out / STATE_FILE, state)
 
     def run(self, progress: bool = True) -> bool:
-        """Train to ``config.steps``, checkpointing as it goes; False if interrupted (Ctrl-C)."""
+        """Train to ``config.steps``, checkpointing as it goes; False if interrupted (Ctrl-C or SIGTERM)."""
         from tqdm import tqdm
 
         c = self.config
