@@ -5,23 +5,24 @@ from __future__ import annotations
 import argparse
 
 
-def non_negative_int(text: str) -> int:
-    """argparse type: an integer >= 0."""
+def _int_at_least(text: str, minimum: int, what: str) -> int:
     try:
         value = int(text)
     except ValueError:
-        value = -1
-    if value < 0:
-        raise argparse.ArgumentTypeError(f"expected a non-negative integer, got {text!r}")
+        value = minimum - 1
+    if value < minimum:
+        raise argparse.ArgumentTypeError(f"expected {what} (an integer >= {minimum}), got {text!r}")
     return value
+
+
+def non_negative_int(text: str) -> int:
+    """argparse type: an integer >= 0."""
+    return _int_at_least(text, 0, "a non-negative integer")
 
 
 def positive_int(text: str) -> int:
     """argparse type: an integer >= 1."""
-    value = non_negative_int(text)
-    if value < 1:
-        raise argparse.ArgumentTypeError(f"expected a positive integer, got {text!r}")
-    return value
+    return _int_at_least(text, 1, "a positive integer")
 
 
 def seconds(text: str) -> float:
@@ -45,6 +46,15 @@ def seed_list(text: str) -> tuple[int, ...]:
         ) from None
     if not seeds:
         raise argparse.ArgumentTypeError("give at least one seed")
+    negative = [s for s in seeds if s < 0]
+    if negative:
+        raise argparse.ArgumentTypeError(f"seeds are integers >= 0; {negative[0]} is not (got {text!r})")
+    repeated = sorted({s for s in seeds if seeds.count(s) > 1})
+    if repeated:  # every episode would count twice, and the intervals would come out too narrow
+        raise argparse.ArgumentTypeError(
+            f"seed {repeated[0]} is given twice in {text!r}; give each seed once, e.g. "
+            f"{','.join(str(s) for s in dict.fromkeys(seeds))}"
+        )
     return seeds
 
 

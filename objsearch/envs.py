@@ -1,5 +1,9 @@
 """Registration of objsearch's Gymnasium environments (string entry points: nothing heavy
-is imported until an environment is made)."""
+is imported until an environment is made), and the action check both envs share."""
+
+from __future__ import annotations
+
+from typing import Sequence
 
 import gymnasium
 
@@ -18,3 +22,16 @@ def register_envs() -> None:
     for env_id, entry_points in ENVS.items():
         if env_id not in gymnasium.registry:
             gymnasium.register(id=env_id, **entry_points)
+
+
+def check_action(space: gymnasium.spaces.Discrete, action, names: Sequence[str]) -> int:
+    """``action`` as an int if ``space`` contains it (a Python or numpy integer in range, as
+    Gymnasium's ``Discrete.contains`` says), else a ValueError naming it and the valid actions:
+    ``1.5``, ``"1"``, ``None`` or an array are refused, not rounded or cast."""
+    if not space.contains(action):
+        first, last = int(space.start), int(space.start + space.n - 1)
+        raise ValueError(
+            f"invalid action {action!r} ({type(action).__name__}); expected an integer in {first}..{last} "
+            f"({', '.join(f'{first + i} {name}' for i, name in enumerate(names))})"
+        )
+    return int(action)

@@ -19,7 +19,7 @@ import shlex
 import sys
 from pathlib import Path
 
-from objsearch.cliargs import key_value, non_negative_int
+from objsearch.cliargs import key_value, non_negative_int, positive_int
 from objsearch.errors import UserError
 
 
@@ -34,11 +34,11 @@ def add_parser(subparsers) -> None:
     parser.add_argument("--agent", required=True, help="registered agent name or package.module:Class")
     parser.add_argument("--suite", default="gridworld", help="suite to train on (default: gridworld)")
     parser.add_argument(
-        "--episodes", type=non_negative_int, help="training episodes (default: the agent's, the paper's 100000)"
+        "--episodes", type=positive_int, help="training episodes (default: the agent's, the paper's 100000)"
     )
     parser.add_argument(
         "--steps",
-        type=non_negative_int,
+        type=positive_int,
         help="house agents: environment steps of the main phase (default: the agent's)",
     )
     parser.add_argument("--seed", type=non_negative_int, default=0, help="run seed (default: 0)")

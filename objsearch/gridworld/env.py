@@ -9,7 +9,8 @@ import gymnasium
 import numpy as np
 from gymnasium import spaces
 
-from objsearch.gridworld.batched import NUM_ACTIONS, OBSERVATIONS, WINDOW, BatchedGridWorld, GridTables
+from objsearch.envs import check_action
+from objsearch.gridworld.batched import ACTION_NAMES, NUM_ACTIONS, OBSERVATIONS, WINDOW, BatchedGridWorld, GridTables
 from objsearch.gridworld.maps import GridMap, load_map_dir
 from objsearch.gridworld.tasks import SEEN_GOALS, GridTask
 
@@ -116,8 +117,7 @@ class GridWorldEnv(gymnasium.Env):
         """
         if self._done:
             raise RuntimeError("step() called on a finished episode; call reset() first")
-        if not self.action_space.contains(action):
-            raise ValueError(f"invalid action {action!r}; expected an int in [0, {NUM_ACTIONS})")
+        action = check_action(self.action_space, action, ACTION_NAMES)
         obs, reward, terminated, truncated, _ = self._world.step(np.array([action]))
         self._done = bool(terminated[0] or truncated[0])
         return (

@@ -58,10 +58,19 @@ def add_parser(subparsers) -> None:
     clear.set_defaults(func=run_clear)
 
 
-def _root(args) -> Path:
+def _root(args, must_exist: bool = False) -> Path:
+    """The cache folder of ``args``; one that is a file, or a ``--cache-dir`` that does not
+    exist (``must_exist``: any that does not), is a ``UserError``."""
+    from objsearch.errors import UserError
     from objsearch.sim.cache import default_cache_dir
 
-    return Path(args.cache_dir) if args.cache_dir else default_cache_dir()
+    root = Path(args.cache_dir) if args.cache_dir else default_cache_dir()
+    where = "pass the folder the caches are in (--cache-dir or $OBJSEARCH_CACHE)"
+    if root.exists() and not root.is_dir():
+        raise UserError(f"cache folder {root} is a file, not a folder; {where}")
+    if not root.exists() and (args.cache_dir or must_exist):
+        raise UserError(f"cache folder {root} does not exist; {where}, or build them: objsearch cache build")
+    return root
 
 
 def run_list(args: argparse.Namespace) -> int:
@@ -90,7 +99,7 @@ def run_verify(args: argparse.Namespace) -> int:
     from objsearch.errors import UserError
     from objsearch.sim.cache import cache_folders
 
-    root = _root(args)
+    root = _root(args, must_exist=True)
     houses = None
     if args.suite:
         from objsearch.sim.suites import load_suite_file
@@ -98,6 +107,11 @@ def run_verify(args: argparse.Namespace) -> int:
         suite = load_suite_file(args.suite)
         houses = {*suite["houses"], *suite.get("training_houses", {})}
     folders = [c for c in cache_folders(root, digests=True) if houses is None or c["house"] in houses]
+    if not folders:  # nothing checked is not "all intact"
+        raise UserError(
+            f"no caches{f' of {args.suite}' if args.suite else ''} in {root} to verify; "
+            f"objsearch cache build --suite SUITE{f' --cache-dir {root}' if args.cache_dir else ''} builds them"
+        )
     damaged = [c for c in folders if c["problem"] is not None]
     for c in folders:
         print(f"{c['path'].name}: {'ok' if c['problem'] is None else c['problem']}")

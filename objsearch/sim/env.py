@@ -9,6 +9,7 @@ import gymnasium
 import numpy as np
 from gymnasium import spaces
 
+from objsearch.envs import check_action
 from objsearch.errors import UserError
 from objsearch.house.categories import CATEGORY_IDS
 from objsearch.sim.cache import HouseCache, PredictedCache, Predictor, quantize_depth
@@ -380,11 +381,7 @@ class HouseEnv(gymnasium.Env):
         """
         if self._done:
             raise RuntimeError("step() called on a finished episode; call reset() first")
-        action = int(action)
-        if not 0 <= action < self.action_space.n:
-            raise ValueError(
-                f"invalid action {action}; expected 0..{self.action_space.n - 1} ({', '.join(ACTIONS[: self.action_space.n])})"
-            )
+        action = check_action(self.action_space, action, ACTIONS[: self.action_space.n])
         before, self._pose = self._pose, int(self._next[self._pose, action])
         self._collided = int(self._pose == before and action in MOVES)
         self._steps += 1
