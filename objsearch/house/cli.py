@@ -63,25 +63,36 @@ def add_parser(subparsers) -> None:
 
 def run(args: argparse.Namespace) -> int:
     """``objsearch generate``: write ``--num`` houses from ``--seed`` on; ``UserError`` listing those that failed."""
-    from tqdm import tqdm
-
     from objsearch.fileio import check_writable, write_json
     from objsearch.house.categories import category_table
     from objsearch.house.generate import HouseGenerationError, generate_house, write_house
+    from objsearch.progress import progress_bar
 
     check_writable(args.out, "--out", folder=True)
-    seeds = range(args.seed, args.seed + args.num)
-    write_json(f"{args.out}/categories.json", category_table())
+    write_json(f"{args.out}/categories.json", category_table(), elsewhere="choose another --out")
     failed = []
-    for seed in tqdm(seeds, desc="houses", unit="house", disable=args.quiet or args.num == 1):
-        try:
-            house = generate_house(seed, args.rooms, args.split, generator=args.generator, placement=args.placement)
-        except HouseGenerationError as err:
-            failed.append(str(err))
-            continue
-        path = write_house(house, args.out, preview=not args.no_preview)
-        if args.num == 1 and not args.quiet:
-            print(f"wrote {path}", file=sys.stderr)
+    bar = progress_bar(args.num, "houses", "house", not args.quiet and args.num > 1)
+    seed = args.seed
+    try:
+        for seed in range(args.seed, args.seed + args.num):
+            try:
+                house = generate_house(seed, args.rooms, args.split, generator=args.generator, placement=args.placement)
+            except HouseGenerationError as err:
+                failed.append(str(err))
+                bar.update()
+                continue
+            path = write_house(house, args.out, preview=not args.no_preview)
+            bar.update()
+            if args.num == 1 and not args.quiet:
+                print(f"wrote {path}", file=sys.stderr)
+    except KeyboardInterrupt as err:  # Ctrl-C or SIGTERM: whole houses only (write_house)
+        rest = args.seed + args.num - seed
+        raise type(err)(
+            f"{seed - args.seed} of {args.num} seeds done in {args.out}; "
+            f"the rest: rerun with --seed {seed} --num {rest}"
+        ) from None
+    finally:
+        bar.close()
     if failed:
         raise UserError(f"{len(failed)} of {args.num} houses failed validation:\n" + "\n".join(failed))
     if not args.quiet:

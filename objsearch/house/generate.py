@@ -43,7 +43,7 @@ import mujoco
 import numpy as np
 
 from objsearch.errors import UserError
-from objsearch.fileio import atomic_write
+from objsearch.fileio import atomic_directory, full_disk_as_error
 from objsearch.house import assets
 from objsearch.house.categories import CATEGORY_TABLE_VERSION
 from objsearch.house.doors import build_walls, place_doors, rect_edges
@@ -227,19 +227,19 @@ def _checked(build, validate: bool) -> GeneratedHouse | str:
 
 
 def write_house(house: GeneratedHouse, out_dir: str | Path, preview: bool = True) -> Path:
-    """Write ``<out_dir>/<house_id>/`` (house.xml, spec.json, preview.png, meshes/)."""
+    """Write ``<out_dir>/<house_id>/`` (house.xml, spec.json, preview.png, meshes/): into a temp
+    folder renamed into place, so that an interrupt or a full disk (a ``UserError`` naming the
+    house) leaves the whole house, or what was there before, never part of one."""
     d = Path(out_dir) / house.spec.house_id
-    for cat, variant in sorted({(o.category, o.variant) for o in house.spec.objects}):
-        target = d / "meshes" / assets.mesh_file(cat, variant)
-        if not target.exists() or target.read_bytes() != assets.mesh_bytes(cat, variant):
-            with atomic_write(target, "wb") as f:
-                f.write(assets.mesh_bytes(cat, variant))
-    with atomic_write(d / "house.xml") as f:
-        f.write(house.xml)
-    with atomic_write(d / "spec.json") as f:
-        f.write(house.spec.to_json_text())
-    if preview:
-        from objsearch.house.preview import write_preview
+    with full_disk_as_error(d, "choose another --out"), atomic_directory(d) as tmp:
+        for cat, variant in sorted({(o.category, o.variant) for o in house.spec.objects}):
+            mesh = tmp / "meshes" / assets.mesh_file(cat, variant)
+            mesh.parent.mkdir(parents=True, exist_ok=True)
+            mesh.write_bytes(assets.mesh_bytes(cat, variant))
+        (tmp / "house.xml").write_text(house.xml)
+        (tmp / "spec.json").write_text(house.spec.to_json_text())
+        if preview:
+            from objsearch.house.preview import write_preview
 
-        write_preview(house.spec, d / "preview.png")
+            write_preview(house.spec, tmp / "preview.png")
     return d
