@@ -11,7 +11,11 @@ try:
 except PackageNotFoundError:  # running from a source tree that is not installed
     __version__ = "0.0.0+unknown"
 
-from objsearch.envs import register_envs
+from objsearch.mujoco_gl import set_aside_unusable
+
+set_aside_unusable()  # before anything imports mujoco
+
+from objsearch.envs import register_envs  # noqa: E402
 
 register_envs()
 

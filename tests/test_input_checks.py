@@ -2,6 +2,9 @@
 traceback, is refused with one line naming it and the fix (exit 2)."""
 
 import argparse
+import os
+import subprocess
+import sys
 
 import gymnasium
 import numpy as np
@@ -93,3 +96,13 @@ def test_the_house_env_rejects_what_the_grid_world_rejects(house_env):
         with pytest.raises(ValueError, match=r"invalid action .*; expected an integer in 0\.\.5 \(0 move_ahead"):
             house_env.step(action)
     house_env.step(np.int64(1))
+
+
+def test_a_bad_mujoco_gl_does_not_stop_commands_that_render_nothing(tmp_path):
+    env = {**os.environ, "MUJOCO_GL": "bogus"}
+    run = lambda *argv: subprocess.run(  # noqa: E731
+        [sys.executable, "-m", "objsearch.cli", *argv], env=env, capture_output=True, text=True, timeout=120
+    )
+    assert run("eval", "--help").returncode == 0
+    grid = run("eval", "--suite", "gridworld", "--split", "seen-goals", "--seeds", "1", "--quiet")
+    assert grid.returncode == 0 and "Traceback" not in grid.stderr, grid.stderr

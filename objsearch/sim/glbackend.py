@@ -1,6 +1,7 @@
 """Choosing and creating the headless OpenGL context a ``HouseRenderer`` draws into.
 
-``MUJOCO_GL`` picks the backend when set (``egl``, ``osmesa`` or ``glfw``; ``glx`` means
+``MUJOCO_GL`` (as ``objsearch.mujoco_gl.requested`` reads it) picks the backend when set
+(``egl``, ``osmesa`` or ``glfw``; ``glx`` means
 ``glfw`` as in MuJoCo). When it is unset (or ``1``/``on``/...), EGL is tried first (Mesa
 llvmpipe on a CPU machine, the NVIDIA driver on a GPU) and OSMesa second. When nothing
 works, ``RenderBackendError`` names every backend tried, why it failed, and the fix.
@@ -18,6 +19,7 @@ from __future__ import annotations
 import ctypes.util
 import os
 
+from objsearch import mujoco_gl
 from objsearch.errors import UserError
 
 BACKENDS = ("egl", "osmesa", "glfw")
@@ -44,7 +46,7 @@ def requested_backends(value: str | None = None) -> tuple[str, ...]:
     Raises:
         RenderBackendError: ``MUJOCO_GL`` names no backend or disables rendering.
     """
-    raw = os.environ.get("MUJOCO_GL", "") if value is None else value
+    raw = mujoco_gl.requested() if value is None else value
     name = raw.strip().lower()
     if name in _AUTO_VALUES:
         return AUTO_ORDER
@@ -65,19 +67,15 @@ def requested_backends(value: str | None = None) -> tuple[str, ...]:
 def check_mujoco_gl() -> None:
     """Raise ``RenderBackendError`` if ``MUJOCO_GL`` names no backend, or one not installed.
 
-    Called when ``objsearch.sim.renderer`` is imported, before ``import mujoco`` (which
-    would fail on such a value with a bare RuntimeError, and on an explicit ``egl`` /
-    ``osmesa`` whose library is missing with an AttributeError from PyOpenGL). Values
-    that only disable rendering pass here: cached observations and settings need no GL.
+    Called when a renderer is first created (``create_gl_context``), not at import: a value
+    that ``import mujoco`` would fail on was set aside by ``objsearch.mujoco_gl``, so that
+    commands that render nothing run whatever it is.
     """
-    raw = os.environ.get("MUJOCO_GL", "")
-    name = raw.strip().lower()
-    if name not in _AUTO_VALUES + _DISABLED_VALUES + BACKENDS + tuple(_ALIASES):
+    raw = mujoco_gl.requested()
+    if raw.strip().lower() not in _DISABLED_VALUES:
         requested_backends()
-    # `import mujoco` loads PyOpenGL for an explicit egl / osmesa and crashes with an
-    # AttributeError deep in PyOpenGL when the library is missing: say so first.
-    library = {"egl": "EGL", "osmesa": "OSMesa"}.get(name)
-    if library and ctypes.util.find_library(library) is None:
+    library = mujoco_gl.missing_library(raw)
+    if library:
         raise RenderBackendError(f"MUJOCO_GL={raw!r} but lib{library} is not installed; fix: {_FIX}")
 
 
@@ -107,6 +105,7 @@ def create_gl_context(width: int, height: int):
         RenderBackendError: No backend worked; the message lists each one tried and why.
     """
     global _working_backend
+    check_mujoco_gl()
     candidates = requested_backends()
     if _working_backend is not None and _working_backend in candidates:
         candidates = (_working_backend,)
@@ -136,5 +135,5 @@ def create_gl_context(width: int, height: int):
         _working_backend = name
         return context, name
     raise RenderBackendError(
-        "no OpenGL backend works for offscreen rendering; tried:\n  " + "\n  ".join(failures) + f"\nFix: {_FIX}."
+        f"no OpenGL backend works for offscreen rendering (tried {'; '.join(failures)}); fix: {_FIX}"
     )

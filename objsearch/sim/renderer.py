@@ -41,18 +41,15 @@ import copy
 import math
 from dataclasses import dataclass
 
-from objsearch.sim.glbackend import RenderBackendError, check_mujoco_gl, create_gl_context
+import mujoco  # a MUJOCO_GL it would fail on was set aside on `import objsearch` (objsearch.mujoco_gl)
+import numpy as np
 
-check_mujoco_gl()  # before `import mujoco`, which rejects an unknown MUJOCO_GL with a bare RuntimeError
-
-import mujoco  # noqa: E402
-import numpy as np  # noqa: E402
-
-from objsearch.errors import UserError  # noqa: E402
-from objsearch.house.categories import BACKGROUND_ID, CATEGORY_IDS  # noqa: E402
-from objsearch.house.mjcf import geom_labels  # noqa: E402
-from objsearch.sim.camera import AGENT_CAMERA, MAX_SHEET, RENDERER_VERSION, RenderSettings  # noqa: E402, F401
-from objsearch.sim.culling import PortalCuller  # noqa: E402
+from objsearch.errors import UserError
+from objsearch.house.categories import BACKGROUND_ID, CATEGORY_IDS
+from objsearch.house.mjcf import geom_labels
+from objsearch.sim.camera import AGENT_CAMERA, MAX_SHEET, RENDERER_VERSION, RenderSettings  # noqa: F401
+from objsearch.sim.culling import PortalCuller
+from objsearch.sim.glbackend import RenderBackendError, create_gl_context
 
 # RenderSettings and RENDERER_VERSION live in objsearch.sim.camera (pure data, no MuJoCo);
 # they stay importable from here for existing code.
