@@ -119,7 +119,11 @@ def configure(parser: argparse.ArgumentParser) -> argparse.ArgumentParser:
         f"rest batched (default: {DEFAULT_VIDEO_EPISODES}; what each costs: README)",
     )
     parser.add_argument("--list-agents", action="store_true", help="list the installed agents and exit")
-    parser.add_argument("--quiet", action="store_true", help="no progress bar")
+    parser.add_argument(
+        "--quiet",
+        action="store_true",
+        help="no progress: no bar on a terminal, no progress line every 30 s in a log (stderr)",
+    )
     parser.set_defaults(func=run)
     return parser
 
