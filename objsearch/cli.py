@@ -8,6 +8,7 @@ subcommand, add its module to ``COMMANDS``.
 from __future__ import annotations
 
 import argparse
+import errno
 import importlib
 import sys
 
@@ -57,8 +58,15 @@ def _run(parser: argparse.ArgumentParser, argv: list[str]) -> int:
         status = interrupt_status(err)
         print(f"{parser.prog}: {interrupted_line(status, str(err))}", file=sys.stderr)
         return status
-    except OSError as err:
-        full = full_disk_error(err, err.filename)  # a write that no command's own check named
+    except OSError as err:  # a write no check of the command's own named: still one line, not a traceback
+        if err.errno in (errno.EROFS, errno.EACCES) and err.filename:
+            print(
+                f"{parser.prog}: error: cannot use {err.filename} ({err.strerror}); choose a place you can write "
+                "to, or fix its permissions",
+                file=sys.stderr,
+            )
+            return 2
+        full = full_disk_error(err, err.filename)
         if full is None:
             raise
         print(f"{parser.prog}: error: {full}", file=sys.stderr)

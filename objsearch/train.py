@@ -65,6 +65,7 @@ def run(args: argparse.Namespace) -> int:
     Returns 0, or 130 if interrupted (143 by SIGTERM); ``UserError`` if the agent cannot be trained.
     """
     from objsearch.eval.registry import check_supports, resolve_agent
+    from objsearch.fileio import check_writable
     from objsearch.interrupt import interrupted_line, stop_status
 
     cls = resolve_agent(args.agent)
@@ -74,6 +75,7 @@ def run(args: argparse.Namespace) -> int:
     check_supports(args.agent, cls, args.suite)  # a world or protocol it cannot play: refused before training
     suite_dir = Path(args.suite).stem if args.suite.endswith(".json") else args.suite  # a suite file: its name
     out = args.out or f"runs/{suite_dir}/{args.agent.replace(':', '.')}-seed{args.seed}"
+    check_writable(out, "--out", folder=True)  # before any training, not at the first checkpoint
     command = "objsearch " + " ".join(shlex.quote(a) for a in sys.argv[1:]) if sys.argv[1:2] == ["train"] else None
     budget = {"episodes": args.episodes} if args.steps is None else {"episodes": args.episodes, "steps": args.steps}
     summary = trainer(

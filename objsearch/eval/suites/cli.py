@@ -116,6 +116,7 @@ def run_list(args: argparse.Namespace) -> int:
 
 def run_make(args: argparse.Namespace) -> int:
     """``objsearch suite make``: write a suite file from generated houses; ``UserError`` if ``--out`` is not .json."""
+    from objsearch.fileio import check_writable
     from objsearch.sim.suite_build import suite_from_houses
     from objsearch.sim.suites import write_suite_file
 
@@ -123,6 +124,7 @@ def run_make(args: argparse.Namespace) -> int:
         raise UserError(
             f"--out {args.out}: a suite file's name ends in .json (objsearch-eval --suite tells it by that)"
         )
+    check_writable(args.out, "--out")  # before the houses' caches are built, not after
     suite = suite_from_houses(
         args.houses, args.out, args.targets, args.episodes, args.seed, args.cache_dir, args.starts, args.protocol
     )
