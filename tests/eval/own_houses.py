@@ -27,8 +27,7 @@ def make_own_houses(work: Path, cache_dir: str) -> Path:
     ``work/my-suite.json`` (20 episodes, seed 1) made from them; returns ``work``."""
     out = run(
         "objsearch", "generate", "--seed", "3", "--num", "2", "--rooms", "small", "--generator", "house-gen-1",
-        "--no-preview", "--quiet",
-        "--out", "houses", cwd=work,
+        "--no-preview", "--quiet", "--out", "houses", cwd=work,
     )  # fmt: skip
     assert out.returncode == 0, out.stderr
     out = run(
