@@ -25,6 +25,17 @@ def positive_int(text: str) -> int:
     return _int_at_least(text, 1, "a positive integer")
 
 
+MAX_SEED = 2**32 - 1  # what every generator takes (torch's manual_seed fails past 2**64)
+
+
+def one_seed(text: str) -> int:
+    """argparse type: one seed, an integer in 0..2**32-1."""
+    value = non_negative_int(text)
+    if value > MAX_SEED:
+        raise argparse.ArgumentTypeError(f"expected a seed in 0..{MAX_SEED}, got {text!r}")
+    return value
+
+
 def seconds(text: str) -> float:
     """argparse type: a number of seconds >= 0, as a float."""
     try:

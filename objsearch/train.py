@@ -19,7 +19,7 @@ import shlex
 import sys
 from pathlib import Path
 
-from objsearch.cliargs import key_value, non_negative_int, positive_int
+from objsearch.cliargs import key_value, one_seed, positive_int
 from objsearch.errors import UserError
 
 
@@ -41,7 +41,7 @@ def add_parser(subparsers) -> None:
         type=positive_int,
         help="house agents: environment steps of the main phase (default: the agent's)",
     )
-    parser.add_argument("--seed", type=non_negative_int, default=0, help="run seed (default: 0)")
+    parser.add_argument("--seed", type=one_seed, default=0, help="run seed (default: 0)")
     parser.add_argument(
         "--out", help="run directory (default: runs/SUITE/AGENT-seedS); an existing run there is resumed"
     )

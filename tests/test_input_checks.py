@@ -106,3 +106,15 @@ def test_a_bad_mujoco_gl_does_not_stop_commands_that_render_nothing(tmp_path):
     assert run("eval", "--help").returncode == 0
     grid = run("eval", "--suite", "gridworld", "--split", "seen-goals", "--seeds", "1", "--quiet")
     assert grid.returncode == 0 and "Traceback" not in grid.stderr, grid.stderr
+
+
+def test_a_training_seed_torch_cannot_take_is_refused(capsys):
+    with pytest.raises(SystemExit) as exit_:
+        main(["train", "--agent", "dqn", "--seed", str(2**64)])
+    assert exit_.value.code == 2
+    assert "expected a seed in 0..4294967295" in capsys.readouterr().err
+
+
+def test_an_empty_out_is_refused_not_taken_as_no_out(capsys):
+    assert main(["eval", "--suite", "gridworld", "--out", ""]) == 2
+    assert "--out is empty" in capsys.readouterr().err

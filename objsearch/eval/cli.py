@@ -162,6 +162,8 @@ def run(args: argparse.Namespace) -> int:
     from objsearch.eval.suites import DEFAULT_SUITE
 
     check_address(args.address, args.executor)
+    if args.out is not None and not args.out.strip():  # not silently "no --out"
+        raise UserError("--out is empty; give the results file's path, e.g. --out results.json")
     # Batched agents' forward passes are small: torch's default threads fight over shared cores
     # (hrl_grg on gridworld, 1500 episodes on 2 busy cores: 132 s with 2 threads, 17 s with 1).
     one_math_thread()
