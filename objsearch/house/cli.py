@@ -7,6 +7,10 @@ under ``meshes/`` beside it), ``spec.json`` (the HouseSpec) and ``preview.png``,
 ``--generator``: ``house-gen-2`` (the default: zoned floorplans with corridors and an
 entrance) or ``house-gen-1`` (the generator of house-single, house-multi and house-gen).
 
+``--room TYPE`` builds single rooms instead of houses (``objsearch.house.rooms``): one
+kitchen, living_room, bedroom or bathroom each, sized and furnished by ``house-gen-2``'s room
+rules, without doors, with more small objects (``OUT/<split>_<type>_<seed>/``).
+
 ``--placement shuffled`` builds the same houses (floorplan, rooms, objects) with every object
 moved to a random place anywhere in the house, whatever the functional groups and room
 priors say (``objsearch.house.shuffle``): houses whose object relations are broken.
@@ -19,6 +23,7 @@ import sys
 
 from objsearch.cliargs import non_negative_int, positive_int
 from objsearch.errors import UserError
+from objsearch.house.rooms import ROOM_TYPES, room_builder
 from objsearch.house.spec import DEFAULT_GENERATOR, GENERATORS, HOUSE_PLACEMENTS
 
 
@@ -37,6 +42,12 @@ def add_parser(subparsers) -> None:
         "--rooms",
         choices=("small", "medium", "large"),
         help="size class: 3-4, 4-6 or 6-9 rooms (default: drawn per seed)",
+    )
+    p.add_argument(
+        "--room",
+        metavar="TYPE",
+        help=f"build single rooms of this type instead of houses: one of {', '.join(ROOM_TYPES)} "
+        "(house-gen-2's room rules, no doors, dense in small objects)",
     )
     p.add_argument(
         "--split", choices=("train", "test"), default="train", help="test houses use the reserved mesh variants"
@@ -68,6 +79,12 @@ def run(args: argparse.Namespace) -> int:
     from objsearch.house.generate import HouseGenerationError, generate_house, write_house
     from objsearch.progress import progress_bar
 
+    if args.room is not None:
+        room_builder(args.generator, args.room)  # an unknown type, or house-gen-1: exit 2 before writing
+        if args.rooms is not None:
+            raise UserError(
+                f"--rooms (a house's size class) and --room (single rooms) exclude each other; drop --rooms {args.rooms}"
+            )
     check_writable(args.out, "--out", folder=True)
     write_json(f"{args.out}/categories.json", category_table(), elsewhere="choose another --out")
     failed = []
@@ -76,7 +93,9 @@ def run(args: argparse.Namespace) -> int:
     try:
         for seed in range(args.seed, args.seed + args.num):
             try:
-                house = generate_house(seed, args.rooms, args.split, generator=args.generator, placement=args.placement)
+                house = generate_house(
+                    seed, args.rooms, args.split, generator=args.generator, placement=args.placement, room=args.room
+                )
             except HouseGenerationError as err:
                 failed.append(str(err))
                 bar.update()

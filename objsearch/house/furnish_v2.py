@@ -41,6 +41,7 @@ TUB_AREA = 5.5  # interior m^2 from which a bathroom may get a bathtub
 PASSAGE = 0.75  # free width kept along a corridor's middle
 NARROW_HALLWAY = 2.4  # a hallway narrower than this keeps the passage
 KITCHEN_TABLE = (9.5, 0.7)  # (minimum area m^2, probability) of a table in a kitchen
+SMALL = ("on_top", "on_wall")  # the placements of small objects (a dense room's second top-up)
 
 
 def bathroom_group(L: RoomLayout, gid: str) -> bool:
@@ -113,15 +114,20 @@ def passage(L: RoomLayout, rect) -> None:
         L.block((m - PASSAGE / 2, y0, 0.0, m + PASSAGE / 2, y1, 10.0))
 
 
-def top_up(L: RoomLayout, area: float) -> None:
-    """Try fill categories of the room's type (by affinity) until it holds ``FILL_DENSITY`` objects per m^2."""
+def top_up(L: RoomLayout, area: float, density: float = FILL_DENSITY, placements: tuple[str, ...] = ()) -> None:
+    """Try fill categories of the room's type (by affinity; of ``placements`` only, if given) until
+    it holds ``density`` objects per m^2."""
     rng = L.rng
-    fill = [c for c in CATEGORIES if L.type in c.rooms and c.placement != "group"]
+    fill = [
+        c
+        for c in CATEGORIES
+        if L.type in c.rooms and c.placement != "group" and (not placements or c.placement in placements)
+    ]
     if not fill:
         return
     weights = [c.rooms[L.type] for c in fill]
     total = sum(weights)
-    target = math.ceil(FILL_DENSITY * area)
+    target = math.ceil(density * area)
     for _ in range(3 * target):
         if len(L.objects) >= target:
             break
@@ -192,13 +198,20 @@ def whole_layout(ctx: HouseContext, room: Room, doors: list[Door], wall_height: 
 
 
 def furnish(
-    ctx: HouseContext, rooms: list[Room], doors: list[Door], wall_height: float, thickness: float
+    ctx: HouseContext,
+    rooms: list[Room],
+    doors: list[Door],
+    wall_height: float,
+    thickness: float,
+    small_density: float = 0.0,
 ) -> list[ObjectInstance]:
     """Furnish every room of a ``house-gen-2`` house and return all objects placed.
 
     The groups and the per-type fill go into the room's largest rectangle (the whole room
     unless it is an L; the sides where it opens into the rest of the room count as no wall);
-    the top-up then fills the whole room, around what stands.
+    the top-up then fills the whole room, around what stands. ``small_density`` > 0 (dense
+    rooms, ``objsearch.house.rooms``) tops it up further with small objects (``SMALL``: on
+    receptacles or walls) to that many objects per m^2; 0 (``house-gen-2``) draws nothing more.
     """
     types = [r.type for r in rooms]
     h = thickness / 2
@@ -235,4 +248,6 @@ def furnish(
                     whole.block((px0, py0, 0.0, px1, py1, 10.0))
             L = whole
         top_up(L, room.area)
+        if small_density > 0:
+            top_up(L, room.area, small_density, SMALL)
     return ctx.objects

@@ -22,6 +22,10 @@ module: rooms cut from a rectangle, no entrance). A suite or checkpoint records 
 generator of its houses (``HouseRef.generator``; none recorded: ``house-gen-1``), so the
 default never changes a shipped house.
 
+Single rooms (``generate_house(..., room=TYPE)``, ``objsearch.house.rooms``): one kitchen,
+living room, bedroom or bathroom by ``house-gen-2``'s room rules, no doors, denser in small
+objects; the spec records ``size_class`` ``room`` and ``extra["room"]``.
+
 Placements (``HOUSE_PLACEMENTS``, chosen with ``generate_house(..., placement=NAME)``): ``functional``
 (the default: objects in functional groups, by room priors) and ``shuffled``: the functional
 house that the same arguments give, with every object moved to a random place anywhere in
@@ -141,11 +145,16 @@ def build_spec(seed: int, size_class: str, split: str, attempt: int) -> HouseSpe
     )
 
 
-def spec_builder(generator: str):
-    """The ``build_spec(seed, size_class, split, attempt)`` of generator ``generator`` (``GENERATORS``).
+def spec_builder(generator: str, room: str | None = None):
+    """The ``build_spec(seed, size_class, split, attempt)`` of generator ``generator`` (``GENERATORS``),
+    or of its single rooms of type ``room`` (``objsearch.house.rooms``).
 
-    Raises ``UserError`` for an unknown generator.
+    Raises ``UserError`` for an unknown generator or room type.
     """
+    if generator in GENERATORS and room is not None:
+        from objsearch.house.rooms import room_builder
+
+        return room_builder(generator, room)
     if generator == "house-gen-1":
         return build_spec
     if generator == "house-gen-2":
@@ -162,24 +171,33 @@ def generate_house(
     validate: bool = True,
     generator: str = DEFAULT_GENERATOR,
     placement: str = "functional",
+    room: str | None = None,
 ) -> GeneratedHouse:
     """Generate, compile and (with ``validate``) check the house of ``seed``, retrying up to ``MAX_ATTEMPTS``.
 
     ``generator`` names the generator version (``GENERATORS``; default ``house-gen-2``),
-    ``placement`` how objects are placed (``HOUSE_PLACEMENTS``; default ``functional``).
-    Raises ``UserError`` for an unknown split, size class, generator or placement,
+    ``placement`` how objects are placed (``HOUSE_PLACEMENTS``; default ``functional``);
+    ``room`` (``objsearch.house.rooms.ROOM_TYPES``) makes a single room of that type instead of
+    a house (its size class is ``room``; give none, or that).
+    Raises ``UserError`` for an unknown split, size class, generator, placement or room type,
     ``HouseGenerationError`` if no attempt (no shuffle) is valid.
     """
-    build = spec_builder(generator)
+    build = spec_builder(generator, room)
     if split not in SPLITS:
         raise UserError(f"unknown split {split!r}; use one of {', '.join(SPLITS)}")
-    if size_class is not None and size_class not in SIZE_CLASSES:
+    if room is not None:
+        from objsearch.house.rooms import ROOM_SIZE_CLASS
+
+        if size_class not in (None, ROOM_SIZE_CLASS):
+            raise UserError(f"a single room ({room}) has no size class {size_class!r}; give none")
+        size_class = ROOM_SIZE_CLASS
+    elif size_class is not None and size_class not in SIZE_CLASSES:
         raise UserError(f"unknown room size {size_class!r}; use one of {', '.join(SIZE_CLASSES)}")
     if placement not in HOUSE_PLACEMENTS:
         raise UserError(f"unknown placement {placement!r}; use one of {', '.join(HOUSE_PLACEMENTS)}")
     size_class = size_class or size_class_for(seed)
     if placement == "shuffled":
-        return _shuffled(generate_house(seed, size_class, split, validate, generator))
+        return _shuffled(generate_house(seed, size_class, split, validate, generator, room=room))
     failures = []
     attempts = GENERATOR_ATTEMPTS[generator]
     for attempt in range(attempts):
@@ -188,7 +206,7 @@ def generate_house(
             return house
         failures.append(f"attempt {attempt}: {house}")
     raise HouseGenerationError(
-        f"seed {seed} ({size_class}, {split}, {generator}): no valid house in {attempts} attempts:\n  "
+        f"seed {seed} ({room or size_class}, {split}, {generator}): no valid house in {attempts} attempts:\n  "
         + "\n  ".join(failures)
     )
 

@@ -1,5 +1,7 @@
 """The stages of generator ``house-gen-2``: zoned floorplan -> doors and entrance -> walls ->
 furniture and fill, as one ``build_spec`` (selected by ``generate_house(..., generator="house-gen-2")``).
+The stages after the doors are ``spec_of_plan``, which single rooms (``objsearch.house.rooms``)
+share.
 
 Randomness: ``numpy.random.default_rng([seed, attempt, split, STREAM])``, so ``house-gen-2``
 houses are independent of ``house-gen-1`` houses of the same seed. The size class (3-4, 4-6
@@ -16,12 +18,12 @@ from objsearch.house.categories import CATEGORY_TABLE_VERSION
 from objsearch.house.doors import build_walls
 from objsearch.house.doors_v2 import edges, place_doors
 from objsearch.house.floorplan import SIZE_CLASSES
-from objsearch.house.floorplan_v2 import plan_house, room_program
+from objsearch.house.floorplan_v2 import Plan, plan_house, room_program
 from objsearch.house.furnish_v2 import furnish
 from objsearch.house.generate import SPLITS, WALL_HEIGHT, WALL_THICKNESS, house_id
 from objsearch.house.layout import HouseContext
 from objsearch.house.materials import EXTERIOR, room_materials
-from objsearch.house.spec import HouseSpec, Room
+from objsearch.house.spec import Door, HouseSpec, Room
 
 VERSION = "house-gen-2"
 STREAM = 2
@@ -37,6 +39,29 @@ def build_spec(seed: int, size_class: str, split: str, attempt: int, furnished: 
     types = room_program(int(rng.integers(lo, hi + 1)), rng)
     plan = plan_house(types, rng)
     doors = place_doors(plan, rng, WALL_THICKNESS)
+    return spec_of_plan(plan, doors, rng, house_id(seed, split), seed, size_class, split, attempt, furnished=furnished)
+
+
+def spec_of_plan(
+    plan: Plan,
+    doors: list[Door],
+    rng: np.random.Generator,
+    house_id: str,
+    seed: int,
+    size_class: str,
+    split: str,
+    attempt: int,
+    furnished: bool = True,
+    small_density: float = 0.0,
+    extra: dict | None = None,
+) -> HouseSpec:
+    """The stages after the doors: materials, walls and (with ``furnished``) furniture and fill,
+    drawn from ``rng``, as the ``HouseSpec`` of a ``house-gen-2`` house with these fields.
+
+    ``small_density`` > 0 tops every room up with small objects to that many objects per m^2
+    (``furnish_v2.furnish``); ``extra`` is the spec's ``extra``. The defaults give the
+    houses of ``build_spec``.
+    """
     materials, rooms = [], []
     for i, (poly, t) in enumerate(zip(plan.polygons, plan.types)):
         floor, wall = room_materials(i, t, rng)
@@ -53,9 +78,12 @@ def build_spec(seed: int, size_class: str, split: str, attempt: int, furnished: 
         [r.wall_material for r in rooms],
         EXTERIOR.name,
     )
-    objects = furnish(HouseContext(rng, split), rooms, doors, WALL_HEIGHT, WALL_THICKNESS) if furnished else []
+    objects = []
+    if furnished:
+        ctx = HouseContext(rng, split)
+        objects = furnish(ctx, rooms, doors, WALL_HEIGHT, WALL_THICKNESS, small_density=small_density)
     return HouseSpec(
-        house_id=house_id(seed, split),
+        house_id=house_id,
         seed=seed,
         split=split,
         size_class=size_class,
@@ -70,4 +98,5 @@ def build_spec(seed: int, size_class: str, split: str, attempt: int, furnished: 
         walls=tuple(walls),
         objects=tuple(objects),
         materials=tuple(materials),
+        extra=dict(extra or {}),
     )

@@ -308,7 +308,8 @@ def render_preview(spec: HouseSpec, *, room_labels: bool = True, object_labels: 
     img = layout.canvas()
     draw_plan(img, spec, layout, room_labels=room_labels, numbers=numbers if object_labels else None)
     width, depth = spec.footprint
-    title = f"{spec.house_id}   {width:g} x {depth:g} m   {len(spec.rooms)} rooms   {len(spec.objects)} objects"
+    rooms = f"{len(spec.rooms)} rooms" if spec.single_room is None else "1 room"
+    title = f"{spec.house_id}   {width:g} x {depth:g} m   {rooms}   {len(spec.objects)} objects"
     put_text(img, title, (MARGIN, 21), 0.55)
     if numbers:
         x0 = layout.left + layout.plan_w + MARGIN

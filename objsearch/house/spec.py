@@ -248,6 +248,12 @@ class HouseSpec(JsonConfig):
         functional houses' bytes never changed)."""
         return self.extra.get("placement", HOUSE_PLACEMENTS[0])
 
+    @property
+    def single_room(self) -> str | None:
+        """The room type of a single room (``objsearch.house.rooms``: a house of one room, no
+        doors), recorded in ``extra``; None for a house."""
+        return self.extra.get("room")
+
     def material(self, name: str) -> Material:
         """The material named ``name`` (StopIteration if there is none)."""
         return next(m for m in self.materials if m.name == name)

@@ -16,7 +16,7 @@
    MuJoCo tests rays against a mesh's convex hull, so the ray ignores the object's parent,
    whose hull would enclose it, and otherwise errs towards "occluded").
 6. **Generator rules** (``house-gen-2`` houses only): circulation, sizes, entrance and fill,
-   ``objsearch.house.validate_v2``.
+   ``objsearch.house.validate_v2``; for a single room (``objsearch.house.rooms``) its own rules.
 """
 
 from __future__ import annotations
@@ -181,7 +181,11 @@ def validate_house(spec: HouseSpec, model: mujoco.MjModel | None) -> ValidationR
     report.problems += check_interpenetration(spec)
     report.grid = occupancy_grid(spec, GRID_RESOLUTION)
     report.problems += check_reachability(spec, model, report.grid)
-    if spec.generator_version == "house-gen-2":
+    if spec.single_room is not None:
+        from objsearch.house.rooms import check_rules
+
+        report.problems += check_rules(spec)
+    elif spec.generator_version == "house-gen-2":
         from objsearch.house.validate_v2 import check_rules
 
         report.problems += check_rules(spec)
