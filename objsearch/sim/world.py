@@ -35,6 +35,8 @@ class HouseRef:
             are left out of ``to_json``, so references to ``house-gen-1`` houses keep their bytes).
         placement: how its objects are placed (``objsearch.house.spec.HOUSE_PLACEMENTS``; None:
             ``functional``), e.g. ``shuffled``.
+        room: a single room of this type instead of a house (``objsearch.house.rooms.ROOM_TYPES``;
+            its generator is ``house-gen-2`` unless ``generator`` says otherwise).
         path: a house directory (``house.xml`` + ``spec.json``) instead of a seed.
         spec_sha256: if set, the house's spec must hash to it.
     """
@@ -46,6 +48,7 @@ class HouseRef:
     spec_sha256: str | None = None
     generator: str | None = None
     placement: str | None = None
+    room: str | None = None
 
     def to_json(self) -> dict:
         """The reference as a JSON dict, without its unset (None) fields."""
@@ -83,8 +86,9 @@ class World:
                 ref.size_class,
                 ref.split,
                 validate=False,
-                generator=ref.generator or "house-gen-1",
+                generator=ref.generator or ("house-gen-2" if ref.room else "house-gen-1"),
                 placement=ref.placement or "functional",
+                room=ref.room,
             )
             world = cls(house.spec, house.model)
         if ref.spec_sha256 is not None and world.spec_sha256 != ref.spec_sha256:

@@ -118,3 +118,11 @@ def test_cli_bad_room_exits_2_before_writing(tmp_path, args, says):
     r = subprocess.run(CMD + ["--out", str(out)] + args, capture_output=True, text=True, env=ENV, timeout=60)
     assert r.returncode == 2 and says in r.stderr and len(r.stderr.strip().splitlines()) == 1, r.stderr
     assert not out.exists()
+
+
+def test_house_ref_loads_a_room(rooms):
+    house = rooms["living_room", 2]
+    world = World.load(HouseRef(seed=2, room="living_room"))
+    assert world.spec.to_json_text() == house.spec.to_json_text()
+    assert HouseRef(seed=2, room="living_room").to_json() == {"seed": 2, "split": "train", "room": "living_room"}
+    assert world.graph.num_poses > 0
