@@ -143,13 +143,14 @@ class CacheLayers:
         self.meta = meta
         self._maps: dict[str, np.ndarray] = {}
         self._depth: MillimetreDepth | None = None
-        self._files: dict[str, tuple[int, int, tuple, np.dtype]] = {}  # layer -> (fd, data offset, frame shape, dtype)
+        self._num_poses = int(meta["num_poses"])
+        self._files: dict[str, tuple] = {}  # layer -> (fd, data offset, frame bytes, frame shape, dtype)
         self._close = weakref.finalize(self, _close_files, self._files)
 
     @property
     def num_poses(self) -> int:
         """Number of poses (frames) in the cache."""
-        return int(self.meta["num_poses"])
+        return self._num_poses
 
     def _layer(self, name: str) -> np.ndarray:
         if name not in self._maps:
@@ -167,34 +168,43 @@ class CacheLayers:
 
     def frame(self, name: str, pose: int) -> np.ndarray:
         """A new array holding layer ``name``'s frame of ``pose`` (``depth``: float32 metres),
-        read from the file: the same values as ``getattr(self, name)[pose]``."""
-        return self.frames(name, pose, pose + 1, squeeze=True)
+        read from the file: the same values as ``getattr(self, name)[pose]``. (The env's
+        every step: kept lean.)"""
+        try:
+            fd, offset, size, shape, dtype = self._files[name]
+        except KeyError:
+            fd, offset, size, shape, dtype = self._files[name] = _open_layer(self.directory / f"{name}.npy")
+        if not 0 <= pose < self._num_poses:
+            raise IndexError(f"pose {pose} is out of range for {self._num_poses} poses ({self.directory})")
+        out = np.empty(shape, dtype)
+        if os.preadv(fd, (out,), offset + pose * size) != size:
+            raise OSError(f"{self.directory / name}.npy: short read (truncated?)")
+        return np.divide(out, _MM, dtype=np.float32) if name == "depth" else out
 
-    def frames(self, name: str, start: int, stop: int, squeeze: bool = False) -> np.ndarray:
+    def frames(self, name: str, start: int, stop: int) -> np.ndarray:
         """A new array holding layer ``name``'s frames of poses ``start:stop`` (``depth``:
-        float32 metres), read from the file (``squeeze``: of the one pose ``start``, without
-        the first axis): the same values as ``getattr(self, name)[start:stop]``."""
+        float32 metres), read from the file: the same values as ``getattr(self, name)[start:stop]``."""
         if name not in self._files:
             self._files[name] = _open_layer(self.directory / f"{name}.npy")
-        fd, offset, shape, dtype = self._files[name]
-        stop = min(stop, self.num_poses)
+        fd, offset, size, shape, dtype = self._files[name]
+        stop = min(stop, self._num_poses)
         if not 0 <= start < stop:
-            raise IndexError(f"poses {start}:{stop} are out of range for {self.num_poses} poses ({self.directory})")
-        out = np.empty(shape if squeeze else (stop - start, *shape), dtype)
-        size = out.nbytes // (stop - start)
-        if os.preadv(fd, [out], offset + start * size) != out.nbytes:
+            raise IndexError(f"poses {start}:{stop} are out of range for {self._num_poses} poses ({self.directory})")
+        out = np.empty((stop - start, *shape), dtype)
+        if os.preadv(fd, (out,), offset + start * size) != out.nbytes:
             raise OSError(f"{self.directory / name}.npy: short read (truncated?)")
         return np.divide(out, _MM, dtype=np.float32) if name == "depth" else out
 
 
-def _open_layer(path: Path) -> tuple[int, int, tuple, np.dtype]:
-    """(fd, offset of the data, shape of one frame, dtype) of an ``.npy`` layer file."""
+def _open_layer(path: Path) -> tuple[int, int, int, tuple, np.dtype]:
+    """(fd, offset of the data, bytes of a frame, shape of a frame, dtype) of an ``.npy`` layer file."""
     mapped = np.load(path, mmap_mode="r")  # numpy reads the header; the map goes at once, untouched
     offset, shape, dtype, c_order = mapped.offset, mapped.shape, mapped.dtype, mapped.flags.c_contiguous
     del mapped
     if not c_order:
         raise ValueError(f"{path} is not stored in C order, as caches are written; rebuild it")
-    return os.open(path, os.O_RDONLY | getattr(os, "O_CLOEXEC", 0)), offset, tuple(shape[1:]), dtype
+    size = int(np.prod(shape[1:])) * dtype.itemsize
+    return os.open(path, os.O_RDONLY | getattr(os, "O_CLOEXEC", 0)), offset, size, tuple(shape[1:]), dtype
 
 
 def _close_files(files: dict) -> None:
