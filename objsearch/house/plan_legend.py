@@ -104,8 +104,9 @@ def plan_footer(spec: HouseSpec) -> list[LegendEntry]:
 def draw_footer(img: np.ndarray, spec: HouseSpec, layout: PlanLayout, entries: Sequence[LegendEntry], y: int) -> None:
     """The scale bar, then ``entries`` (wrapped to the plan's width), then a north arrow, from row ``y``."""
     x = draw_scale_bar(img, layout.left, y + 6, scale_bar_metres(spec)) + 24
-    draw_legend(img, entries, x, y, layout.left + layout.plan_w - 30 - x)
-    draw_north_arrow(img, layout.left + layout.plan_w - 16, y - 4)
+    used, _ = draw_legend(img, entries, x, y, layout.left + layout.plan_w - 30 - x)
+    # at the plan's right edge, or past the legend where the plan is narrower than it (a small room)
+    draw_north_arrow(img, max(layout.left + layout.plan_w - 16, x + used + 14), y - 4)
 
 
 def footer_height(spec: HouseSpec, entries: Sequence[LegendEntry]) -> int:

@@ -43,6 +43,8 @@ from objsearch.house.plan_canvas import (
 from objsearch.house.plan_legend import draw_footer, footer_height, footer_top, plan_footer
 from objsearch.house.spec import Door, HouseSpec, Room
 
+TITLE_SCALE = 0.55
+
 
 def category_numbers(spec: HouseSpec) -> dict[str, int]:
     """Number (1, 2, ...) of every object category in ``spec``, in category-table order."""
@@ -292,8 +294,15 @@ def _preview_parts(spec: HouseSpec, object_labels: bool = True):
     rows = max((int(round(spec.footprint[1] * PX)) + 2 * MARGIN - 24) // ROW_H, 1)
     legend_w, spots = _category_legend(spec, numbers, rows)
     right = legend_w + 10 if numbers else 0
-    layout = plan_layout(spec, top=TITLE_H, bottom=footer_height(spec, entries), right=right)
+    title_w = text_width(_title(spec), TITLE_SCALE) + 2 * MARGIN  # a small room's plan is narrower than its title
+    layout = plan_layout(spec, top=TITLE_H, bottom=footer_height(spec, entries), right=right, min_width=title_w)
     return layout, numbers, entries, spots
+
+
+def _title(spec: HouseSpec) -> str:
+    width, depth = spec.footprint
+    rooms = f"{len(spec.rooms)} rooms" if spec.single_room is None else "1 room"
+    return f"{spec.house_id}   {width:g} x {depth:g} m   {rooms}   {len(spec.objects)} objects"
 
 
 def preview_layout(spec: HouseSpec, object_labels: bool = True) -> PlanLayout:
@@ -307,10 +316,7 @@ def render_preview(spec: HouseSpec, *, room_labels: bool = True, object_labels: 
     layout, numbers, entries, spots = _preview_parts(spec, object_labels)
     img = layout.canvas()
     draw_plan(img, spec, layout, room_labels=room_labels, numbers=numbers if object_labels else None)
-    width, depth = spec.footprint
-    rooms = f"{len(spec.rooms)} rooms" if spec.single_room is None else "1 room"
-    title = f"{spec.house_id}   {width:g} x {depth:g} m   {rooms}   {len(spec.objects)} objects"
-    put_text(img, title, (MARGIN, 21), 0.55)
+    put_text(img, _title(spec), (MARGIN, 21), TITLE_SCALE)
     if numbers:
         x0 = layout.left + layout.plan_w + MARGIN
         put_text(img, "objects", (x0, layout.top - MARGIN + 12), 0.45)

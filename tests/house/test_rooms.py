@@ -126,3 +126,12 @@ def test_house_ref_loads_a_room(rooms):
     assert world.spec.to_json_text() == house.spec.to_json_text()
     assert HouseRef(seed=2, room="living_room").to_json() == {"seed": 2, "split": "train", "room": "living_room"}
     assert world.graph.num_poses > 0
+
+
+def test_preview_of_a_small_room_holds_its_title(rooms):
+    from objsearch.house.plan_canvas import MARGIN, text_width
+    from objsearch.house.preview import TITLE_SCALE, _title, render_preview
+
+    spec = min((h.spec for h in rooms.values()), key=lambda s: s.footprint[0])
+    assert "1 room " in _title(spec)
+    assert render_preview(spec).shape[1] >= text_width(_title(spec), TITLE_SCALE) + 2 * MARGIN
