@@ -19,8 +19,9 @@ Cases:
 * ``predicted``: ``--observation predicted`` with a temporary folder holding links to the
   warm gt caches, so the run computes every house's predictions (removed after).
 
-``--seeds`` / ``--split`` restrict the evaluation (default: seed 1, every split); the
-suite's houses are all played with any seed. With ``--json`` the last line is one JSON
+``--seeds`` / ``--split`` restrict the evaluation (default: seed 1, every split, to keep
+it short); the suite's houses are all played with any seed, and the full protocol
+(``--seeds 1,5,13,45,99``, 5x the time) peaks where one seed does (benchmarks/RESULTS.md). With ``--json`` the last line is one JSON
 object: ``{"<suite>/<case>": {"command": ..., "wall_s", "peak_rss_mb", "peak_pss_mb",
 "peak_pss_anon_mb", "peak_pss_file_mb", "peak_rss_anon_mb", "peak_rss_file_mb",
 "ru_maxrss_mb", "rc"}}`` (MB = 10^6 bytes).
