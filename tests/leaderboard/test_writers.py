@@ -101,7 +101,7 @@ def test_a_failed_write_leaves_the_entries_and_pages_as_they_were(tmp_path, caps
     monkeypatch.setattr(render_module, "atomic_write", full_disk_at_the_last_page)
     code = main(["leaderboard", "--dir", str(board), "add", str(tmp_path / "oracle.json"), "--partial", "--name", "b"])
     err = capsys.readouterr().err
-    assert code == 2 and "paper_tables.md (No space left on device)" in err and "Traceback" not in err
+    assert code == 2 and "paper_tables.md: No space left on device" in err and "Traceback" not in err
     assert "the leaderboard is as it was" in err
     assert {p: p.read_bytes() for p in sorted(board.rglob("*")) if p.is_file()} == before  # no temp file either
 
