@@ -419,6 +419,8 @@ def _write_together(texts: dict[Path, str]) -> None:
                 f = stack.enter_context(atomic_write(path))
                 f.write(text)
                 f.flush()  # a write error shows here, before any file is renamed
+    except UserError as err:  # a full disk, as atomic_write words it
+        raise UserError(f"{err}; the leaderboard is as it was: run the command again then") from None
     except OSError as err:
         raise UserError(
             f"cannot write {path} ({err.strerror}); the leaderboard is as it was: free some space "
