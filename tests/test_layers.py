@@ -16,7 +16,7 @@ import pytest
 
 ROOT = Path(__file__).resolve().parents[1] / "objsearch"
 LAYERS = {"gridworld": 0, "house": 0, "sim": 1, "perception": 2, "eval": 3, "leaderboard": 4}
-GLUE = {"cli.py", "train.py", "data_cli.py", "plot_cli.py"}
+GLUE = {"cli.py", "train.py", "data_cli.py", "plot_cli.py", "api.py"}
 AGENTS = "objsearch_agents"
 
 

@@ -88,3 +88,34 @@ def test_agent_by_module_path(tmp_path):
     )
     assert out.returncode == 0, out.stderr
     assert "RandomAgent" in out.stdout
+
+
+def test_installed_package_adds_a_suite_by_entry_point(installed_example, tmp_path):
+    """The example package's ``objsearch.suites`` entry point makes ``gridworld-short`` a suite
+    name on the command line, in worker processes too."""
+    out = subprocess.run(
+        [
+            str(BIN / "objsearch-eval"),
+            "--agent",
+            "random",
+            "--suite",
+            "gridworld-short",
+            "--split",
+            "seen-goals",
+            "--seeds",
+            "1",
+            "--workers",
+            "2",
+            "--quiet",
+            "--out",
+            str(tmp_path / "short.json"),
+        ],
+        env=installed_example,
+        capture_output=True,
+        text=True,
+        timeout=300,
+    )
+    assert out.returncode == 0, out.stderr
+    results = json.loads((tmp_path / "short.json").read_text())
+    assert results["suite"] == "gridworld-short"
+    assert max(r["steps"] for r in results["episodes"]) == 50  # its step limit, not the grid world's 100

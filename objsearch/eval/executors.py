@@ -10,6 +10,7 @@ from typing import Callable
 
 from objsearch.cluster import local_pool
 from objsearch.eval.config import EvalConfig, Unit
+from objsearch.eval.suites import REGISTERED
 from objsearch.eval.worker import Worker
 
 Done = Callable[[list[dict]], None]
@@ -18,10 +19,10 @@ _worker: Worker | None = None  # the Worker of a local pool's process
 
 
 def _init_worker(
-    config: EvalConfig, video_dir: str | None, batch: int, folder: str, video_units: frozenset | None
+    config: EvalConfig, video_dir: str | None, batch: int, folder: str, video_units: frozenset | None, suites: dict
 ) -> None:
     global _worker
-    _worker = Worker(config, video_dir, batch, folder, video_units)
+    _worker = Worker(config, video_dir, batch, folder, video_units, suites=suites)
 
 
 def _run_chunk(units: list[Unit]) -> list[dict]:
@@ -46,13 +47,15 @@ def run_local(
     batch: int = 1,
     folder: str | None = None,
     video_units: frozenset | None = None,
+    agent=None,
 ) -> None:
-    """Play ``units`` in this process (``workers`` <= 1) or a pool of ``workers`` processes."""
+    """Play ``units`` in this process (``workers`` <= 1) or a pool of ``workers`` processes;
+    ``agent``: an agent object to play (``workers`` <= 1 only)."""
     if workers <= 1:
-        for record in Worker(config, video_dir, batch, folder, video_units).play(units):
+        for record in Worker(config, video_dir, batch, folder, video_units, agent).play(units):
             done([record])
         return
-    with local_pool(workers, _init_worker, (config, video_dir, batch, folder, video_units)) as pool:
+    with local_pool(workers, _init_worker, (config, video_dir, batch, folder, video_units, dict(REGISTERED))) as pool:
         # as they finish, so that an interrupt keeps every finished chunk (not pool.map: it
         # cancels the rest when interrupted, which local_pool must not see)
         futures = [pool.submit(_run_chunk, chunk) for chunk in chunks(units, workers, batch)]
@@ -81,7 +84,10 @@ def run_ray(
         if address:
             workers = max(workers, int(ray.cluster_resources().get("CPU", 1)))
         actors = [
-            ray.remote(num_cpus=1)(Worker).remote(config, video_dir, batch, folder, video_units) for _ in range(workers)
+            ray.remote(num_cpus=1)(Worker).remote(
+                config, video_dir, batch, folder, video_units, suites=dict(REGISTERED)
+            )
+            for _ in range(workers)
         ]
         for part in ActorPool(actors).map_unordered(
             lambda actor, chunk: actor.run_chunk.remote(chunk), chunks(units, workers, batch)

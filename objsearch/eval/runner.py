@@ -44,13 +44,15 @@ def run_units(
     batch: int = 1,
     folder: str | None = None,
     video_units: Iterable[Unit] | None = None,
+    agent=None,
 ) -> list[dict]:
     """Run (split, seed, episode_id) units and return their records in the units' order.
 
     Units already in ``partial`` are not run again; new records are appended to it. With
     ``batch`` > 1 each worker plays that many episodes in lockstep. ``folder``: where the
     agent's module or file is also looked for (default: the current folder). With
-    ``video_dir``, the units of ``video_units`` (None: every unit) get pictures there."""
+    ``video_dir``, the units of ``video_units`` (None: every unit) get pictures there.
+    ``agent``: an agent object to play in this process instead of building ``config.agent``."""
     if executor not in EXECUTORS:
         raise UserError(f"unknown executor {executor!r}; choose one of {', '.join(EXECUTORS)}")
     finished = {(r["split"], r["seed"], r["episode_id"]): r for r in (partial.records if partial else [])}
@@ -72,7 +74,7 @@ def run_units(
         if todo and executor == "ray":
             run_ray(config, todo, workers, address, video_dir, done, batch, folder, video_units)
         elif todo:
-            run_local(config, todo, workers, video_dir, done, batch, folder, video_units)
+            run_local(config, todo, workers, video_dir, done, batch, folder, video_units, agent)
     except KeyboardInterrupt as err:  # Ctrl-C or SIGTERM: say what is kept (the CLI prints it)
         kept = sum(u in finished for u in units)
         if partial:
@@ -123,6 +125,7 @@ def evaluate(
     video_dir: str | None = None,
     batch: int = 1,
     video_episodes: int = 2,
+    agent=None,
 ) -> dict:
     """Evaluate ``config.agent`` on ``config.suite`` and return the results dict.
 
@@ -134,7 +137,9 @@ def evaluate(
     pictures of the first ``video_episodes`` episodes of each split (first seed) are written
     there (suites that have them); those are played one at a time, the rest as usual. With
     ``batch`` > 1, each worker plays that many episodes in lockstep (same records). Outputs
-    that cannot be written are refused before the first episode.
+    that cannot be written are refused before the first episode. ``agent``: an agent object
+    to play (in this process, ``workers`` 1) instead of building ``config.agent``, which then
+    only names it in the results; it is played as it is (no checkpoint or training runs).
     """
     from objsearch.eval.results import build_results
     from objsearch.fileio import check_writable, write_json
@@ -144,6 +149,11 @@ def evaluate(
         check_writable(f"{out}.partial.jsonl", "--out")
     if video_dir:
         check_writable(video_dir, "--video", folder=True)
+    if agent is not None and (workers > 1 or executor != "local"):
+        raise UserError(
+            f"agent object {config.agent!r} plays in this process only: pass workers=1 and the local executor, "
+            "or pass the agent's registered name or 'package.module:Class' to play it in several processes"
+        )
     suite = make_suite(config.suite, **config.suite_config)
     splits = check_splits(suite, list(config.splits))
     if video_dir and not hasattr(suite, "write_video"):
@@ -151,14 +161,14 @@ def evaluate(
     folder = os.getcwd()
     # replace, not a new EvalConfig: every other field (and any field added later) is kept
     config = replace(config, splits=tuple(splits), suite_config=suite.config())
-    runs = training_runs(config, folder)
+    runs = training_runs(config, folder) if agent is None else []
     several = len(runs) > 1
     plays = [run_config(config, run) for run in runs] if several else [config]
     for i, play in enumerate(plays):  # fail fast, before any worker starts
-        agent = agent_of(play, folder)
-        check_perception(agent, suite)
-        plays[i] = replace(play, weights_sha256=getattr(agent, "weights_sha256", None))
-        del agent
+        built = agent if agent is not None else agent_of(play, folder)
+        check_perception(built, suite)
+        plays[i] = replace(play, weights_sha256=getattr(built, "weights_sha256", None))
+        del built
     partial_paths = [
         f"{out}.run{play.training_run}.partial.jsonl" if several else f"{out}.partial.jsonl" for play in plays
     ]
@@ -170,7 +180,7 @@ def evaluate(
             units = plan_units(suite, splits, config.seeds)
             video_units = video_units_of(suite, splits, config.seeds, video_episodes) if videos else None
             played = run_units(
-                play, units, workers, executor, address, partial, progress, videos, batch, folder, video_units
+                play, units, workers, executor, address, partial, progress, videos, batch, folder, video_units, agent
             )
         finally:
             if partial:

@@ -4,13 +4,14 @@ fed (split, seed, episode_id) units; each is played alone (``objsearch.eval.epis
 
 from __future__ import annotations
 
+import copy
 from typing import Iterable
 
 from objsearch.eval.config import EvalConfig, Unit
 from objsearch.eval.episode import run_episode
 from objsearch.eval.lockstep import EnvSlots, play_lockstep
 from objsearch.eval.runs import agent_of
-from objsearch.eval.suites import Episode, make_suite
+from objsearch.eval.suites import Episode, make_suite, register_suite
 
 
 class Worker:
@@ -22,7 +23,10 @@ class Worker:
     written there by the suite's ``write_video(directory, record, episode, trajectory)``;
     those units are played one by one, first. With ``batch`` > 1, the others are played ``batch`` at a time in
     lockstep (``objsearch.eval.lockstep``): in the suite's own slots if it has them
-    (``make_slots``), else one env per slot."""
+    (``make_slots``), else one env per slot. ``agent``: an agent object to play instead of
+    building ``config.agent`` (``objsearch.evaluate``); an unbatched one is copied for each
+    lockstep slot past the first. ``suites``: the suites ``register_suite`` added in the
+    process that started the evaluation (a worker process registers them again)."""
 
     def __init__(
         self,
@@ -31,12 +35,17 @@ class Worker:
         batch: int = 1,
         folder: str | None = None,
         video_units: Iterable[Unit] | None = None,
+        agent=None,
+        suites: dict[str, str] | None = None,
     ):
+        for name, target in (suites or {}).items():
+            register_suite(name, target)
         self.config, self.video_dir, self.batch, self.folder = config, video_dir, int(batch), folder
         self.video_units = None if video_units is None else frozenset(map(tuple, video_units))
         self.suite = make_suite(config.suite, **config.suite_config)
         self.env = self.suite.make_env()
-        self.agent = agent_of(config, folder)
+        self.given = agent is not None
+        self.agent = agent if self.given else agent_of(config, folder)
         self.episodes: dict[str, list[Episode]] = {}
         self._slots = None
 
@@ -74,7 +83,8 @@ class Worker:
             return
         built = iter([self.agent])
         c = self.config
-        make = lambda: next(built, None) or agent_of(c, self.folder)
+        another = (lambda: copy.deepcopy(self.agent)) if self.given else (lambda: agent_of(c, self.folder))
+        make = lambda: next(built, None) or another()
         yield from play_lockstep(units, self.slots(), make, self.episode, self.suite.name, c.step_time_limit)
 
     def slots(self):

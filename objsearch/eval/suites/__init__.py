@@ -4,8 +4,10 @@
 checks, ``objsearch suite list``, the leaderboard) comes from it. It holds the grid world
 and the shipped house suites, whose names are declared with their builders
 (``objsearch.sim.suites.SUITE_NAMES``); besides them, the path of a suite file made by
-``objsearch suite make`` (``*.json``) names a house suite. Adding a suite:
-``docs/add_a_suite.md``.
+``objsearch suite make`` (``*.json``) names a house suite. Other suites join it with
+``register_suite(name, cls)``, or from an installed package through the entry-point group
+``objsearch.suites`` (``name = "package.module:SuiteClass"``), read in every process as
+agents' are. Adding a suite: ``docs/add_a_suite.md``.
 
 A suite class provides:
 
@@ -31,19 +33,51 @@ from __future__ import annotations
 import difflib
 import importlib
 from dataclasses import dataclass, field
+from importlib.metadata import entry_points
 from typing import Any
 
 from objsearch.errors import UserError
 from objsearch.sim.suites import SUITE_NAMES as HOUSE_SUITES
 
 HOUSE_SUITE = "objsearch.eval.suites.house:HouseSuite"
+GROUP = "objsearch.suites"
 SUITES = {
     "gridworld": "objsearch.eval.suites.gridworld:GridWorldSuite",
     **dict.fromkeys(HOUSE_SUITES, HOUSE_SUITE),
 }
+#: The suites registered in this process by ``register_suite`` (handed to worker processes).
+REGISTERED: dict[str, str] = {}
 SUITE_FILE = HOUSE_SUITE  # the class of a suite file (a path ending in .json)
 DEFAULT_SUITE = "house-single"  # what objsearch-eval runs without --suite: the main job
 WORLDS = ("gridworld", "house")
+
+
+def register_suite(name: str, suite: type | str) -> None:
+    """Make ``name`` a suite: ``suite`` is a suite class (see above) or its ``"module:Class"``.
+
+    The name then works everywhere a shipped suite's does (``objsearch.evaluate``,
+    ``make_suite``, worker processes of this evaluation). Registering a name again with the
+    same class is allowed; a name taken by another suite is an error. A package makes its
+    suites known to every process, and to the command line, with an entry point in the
+    group ``objsearch.suites`` instead."""
+    target = suite if isinstance(suite, str) else f"{suite.__module__}:{suite.__qualname__}"
+    if not isinstance(name, str) or not name or name.endswith(".json"):
+        raise UserError(f"register_suite: suite name {name!r} must be a non-empty string not ending in .json")
+    if ":" not in target:
+        raise UserError(f"register_suite: suite {suite!r} for {name!r} must be a class or a 'module:Class' string")
+    if SUITES.get(name, target) != target:
+        raise UserError(
+            f"register_suite: suite name {name!r} is taken by {SUITES[name]}; register {target} under another name"
+        )
+    SUITES[name] = REGISTERED[name] = target
+
+
+def _register_installed() -> None:
+    for ep in entry_points(group=GROUP):
+        register_suite(ep.name, ep.value)
+
+
+_register_installed()
 
 
 def is_suite_file(name: str) -> bool:
