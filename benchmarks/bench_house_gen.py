@@ -4,7 +4,7 @@
 
 Prints the median, mean and 90th percentile seconds per house, the mean number of
 attempts (bounded resampling) and the time of one successful attempt split by stage. With
-``--generator house-gen-2`` it also counts, per rule of ``objsearch.house.validate_v2``, the
+``--generator house-gen-2`` it also counts, per rule of ``objsearch.house.gen2.rules``, the
 houses that hold it (every generated house must: ``generate_house`` validates them) and the
 houses with a corridor, an L-shaped room, an open-plan opening and an en-suite bathroom;
 ``--seeds 500`` is the issue's 500-seed sweep of every stage.
@@ -19,7 +19,8 @@ from collections import Counter
 
 import numpy as np
 
-from objsearch.house.generate import GENERATORS, HouseGenerationError, generate_house, spec_builder
+from objsearch.house.generate import HouseGenerationError, generate_house, spec_builder
+from objsearch.house.generators import GENERATORS
 from objsearch.house.mjcf import build_mjspec
 from objsearch.house.validate import validate_house
 
@@ -59,7 +60,7 @@ def main() -> None:
         for k, v in zip(stages, (t1 - t0, t2 - t1, t3 - t2, t4 - t3)):
             stages[k].append(v)
         if args.generator == "house-gen-2":
-            from objsearch.house.validate_v2 import rule_problems
+            from objsearch.house.gen2.rules import rule_problems
 
             for rule, problems in rule_problems(spec).items():
                 rules[rule] += not problems

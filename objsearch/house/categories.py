@@ -14,7 +14,7 @@ Every object category carries its placement rule and priors:
 * ``placement``: ``wall`` (back against a wall, facing into the room), ``corner`` (against
   two walls), ``middle`` (free-standing with clearance all round), ``on_wall`` (mounted on a
   wall at ``wall_z`` height), ``on_top`` (standing on a receptacle of ``parents``) or
-  ``group`` (placed only as part of a functional group, see ``objsearch.house.furnish``).
+  ``group`` (placed only as part of a functional group, see ``objsearch.house.groups``).
 * ``rooms``: room type -> probability that a room of that type gets this category as a
   free "fill" object (group members get theirs from the group); ``count`` bounds how many.
 * ``size_min`` / ``size_max``: full extents (width x, depth y, height z) in metres in the

@@ -23,8 +23,9 @@ import sys
 
 from objsearch.cliargs import non_negative_int, positive_int
 from objsearch.errors import UserError
+from objsearch.house.generators import GENERATORS
 from objsearch.house.rooms import ROOM_TYPES, room_builder
-from objsearch.house.spec import DEFAULT_GENERATOR, GENERATORS, HOUSE_PLACEMENTS
+from objsearch.house.spec import DEFAULT_GENERATOR, HOUSE_PLACEMENTS
 
 
 def add_parser(subparsers) -> None:

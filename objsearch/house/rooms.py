@@ -37,7 +37,7 @@ from objsearch.house.spec import HouseSpec, r4
 if TYPE_CHECKING:  # the CLI reads ROOM_TYPES: numpy and the stages load only to build a room
     import numpy as np
 
-    from objsearch.house.floorplan_v2 import Plan
+    from objsearch.house.gen2.floorplan import Plan
 
 #: The types a single room can be (the four of the paper's AI2-THOR rooms), in this order for
 #: good: a type's index seeds its rooms.
@@ -80,7 +80,7 @@ def room_builder(generator: str, room: str):
 
 def room_plan(room: str, rng: np.random.Generator) -> Plan:
     """The floorplan of one room of type ``room``: a rectangle at the origin (see the module docstring)."""
-    from objsearch.house.floorplan_v2 import AREA_RANGES, GRID, MIN_WIDTH, Plan
+    from objsearch.house.gen2.floorplan import AREA_RANGES, GRID, MIN_WIDTH, Plan
 
     min_side = BATHROOM_MIN_SIDE if room == "bathroom" else MIN_WIDTH[room]
     area = rng.uniform(*AREA_RANGES[room])
@@ -97,8 +97,8 @@ def build_room_spec(seed: int, size_class: str, split: str, attempt: int, room: 
     raises ``StageFailure`` when a rule of the stages cannot be met."""
     import numpy as np
 
-    from objsearch.house.generate import SPLITS
-    from objsearch.house.generate_v2 import spec_of_plan
+    from objsearch.house.gen2.build import spec_of_plan
+    from objsearch.house.stages import SPLITS
 
     rng = np.random.default_rng([seed, attempt, SPLITS[split], STREAM, ROOM_TYPES.index(room)])
     plan = room_plan(room, rng)
@@ -118,7 +118,7 @@ def build_room_spec(seed: int, size_class: str, split: str, attempt: int, room: 
 
 def check_rules(spec: HouseSpec) -> list[str]:
     """Every problem of the single room ``spec`` by ``RULES`` (``validate_house`` appends them)."""
-    from objsearch.house.validate_v2 import rule_problems
+    from objsearch.house.gen2.rules import rule_problems
 
     room = spec.single_room
     problems = []

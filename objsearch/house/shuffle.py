@@ -42,10 +42,10 @@ from functools import partial
 import numpy as np
 
 from objsearch.house.categories import category
-from objsearch.house.floorplan import StageFailure
-from objsearch.house.furnish_v2 import NARROW, NARROW_HALLWAY, passage, whole_layout
+from objsearch.house.clearances import NARROW, NARROW_HALLWAY, passage, whole_layout
 from objsearch.house.layout import HouseContext, RoomLayout
 from objsearch.house.spec import HouseSpec, ObjectInstance, Room, r4
+from objsearch.house.stages import StageFailure
 
 PLACEMENT = "shuffled"
 ON_TOP_TRIES = 4  # spots tried on each receptacle

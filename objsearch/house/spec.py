@@ -26,9 +26,9 @@ OUTSIDE = -1
 #: How a house's objects are placed (``HouseSpec.placement``): in functional groups by room
 #: priors, or shuffled (``objsearch.house.shuffle``). The first is the default.
 HOUSE_PLACEMENTS = ("functional", "shuffled")
-#: The generator versions (``HouseSpec.generator_version``; ``objsearch.house.generate``), and
-#: the one ``generate_house`` and ``objsearch generate`` use unless told otherwise.
-GENERATORS = ("house-gen-1", "house-gen-2")
+#: The generator version (``HouseSpec.generator_version``; the registry:
+#: ``objsearch.house.generators.GENERATORS``) that ``generate_house`` and ``objsearch generate``
+#: use unless told otherwise.
 DEFAULT_GENERATOR = "house-gen-2"
 
 

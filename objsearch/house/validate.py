@@ -15,8 +15,10 @@
    object first (``mujoco.mj_ray`` on the compiled model, so occlusion by any geom counts;
    MuJoCo tests rays against a mesh's convex hull, so the ray ignores the object's parent,
    whose hull would enclose it, and otherwise errs towards "occluded").
-6. **Generator rules** (``house-gen-2`` houses only): circulation, sizes, entrance and fill,
-   ``objsearch.house.validate_v2``; for a single room (``objsearch.house.rooms``) its own rules.
+6. **Generator rules**: the rules of the house's generator version (``Generator.check_rules``,
+   ``objsearch.house.generators``; ``house-gen-2``: circulation, sizes, entrance and fill,
+   ``objsearch.house.gen2.rules``; ``house-gen-1`` has none); for a single room
+   (``objsearch.house.rooms``) its own rules.
 """
 
 from __future__ import annotations
@@ -26,6 +28,7 @@ from dataclasses import dataclass, field
 import mujoco
 import numpy as np
 
+from objsearch.house.generators import GENERATORS, get_generator
 from objsearch.house.layout import surface_rect
 from objsearch.house.occupancy import OccupancyGrid, components, occupancy_grid
 from objsearch.house.spec import HouseSpec
@@ -185,8 +188,6 @@ def validate_house(spec: HouseSpec, model: mujoco.MjModel | None) -> ValidationR
         from objsearch.house.rooms import check_rules
 
         report.problems += check_rules(spec)
-    elif spec.generator_version == "house-gen-2":
-        from objsearch.house.validate_v2 import check_rules
-
-        report.problems += check_rules(spec)
+    elif spec.generator_version in GENERATORS:
+        report.problems += get_generator(spec.generator_version).check_rules(spec)
     return report

@@ -20,9 +20,9 @@ import json
 
 from objsearch.errors import UserError
 from objsearch.house.categories import CATEGORY_IDS, FIRST_OBJECT_ID
-from objsearch.house.floorplan import SIZE_CLASSES
-from objsearch.house.generate import GENERATORS, SPLITS
+from objsearch.house.generators import GENERATORS
 from objsearch.house.spec import HOUSE_PLACEMENTS
+from objsearch.house.stages import SIZE_CLASSES, SPLITS
 from objsearch.sim.env import STARTS
 from objsearch.sim.goals import PROTOCOLS, RULES
 from objsearch.sim.navgraph import NAVGRAPH_VERSION

@@ -1,5 +1,5 @@
-"""Regenerate the golden specs (run after an intended generator change, with
-HOUSE_GENERATOR_VERSION bumped in objsearch/house/generate.py):
+"""Regenerate the golden specs of house-gen-1 (objsearch/house/gen1, frozen: run only if its
+version's output was meant to change):
 
     python tests/house/make_golden.py
 """

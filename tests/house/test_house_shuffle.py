@@ -12,9 +12,9 @@ import pytest
 from objsearch.errors import UserError
 from objsearch.house import generate
 from objsearch.house.categories import category
-from objsearch.house.floorplan import StageFailure
 from objsearch.house.generate import HouseGenerationError, generate_house
 from objsearch.house.mjcf import compile_house
+from objsearch.house.stages import StageFailure
 from objsearch.house.validate import validate_house
 
 HOUSES = [(0, "house-gen-1"), (1, "house-gen-1"), (0, "house-gen-2"), (1, "house-gen-2")]

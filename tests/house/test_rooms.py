@@ -10,8 +10,8 @@ from dataclasses import replace
 import pytest
 
 from objsearch.errors import UserError
-from objsearch.house.floorplan_v2 import AREA_LIMITS
-from objsearch.house.furnish_v2 import FILL_DENSITY
+from objsearch.house.gen2.floorplan import AREA_LIMITS
+from objsearch.house.gen2.furnish import FILL_DENSITY
 from objsearch.house.generate import generate_house
 from objsearch.house.rooms import ROOM_SIZE_CLASS, ROOM_TYPES, check_rules
 from objsearch.house.spec import Door, HouseSpec

@@ -1,4 +1,4 @@
-"""Stage 3: doors (so that every room can be reached) and the walls they cut.
+"""Stage 3 of ``house-gen-1``: doors (so that every room can be reached), and the edges of its rectangle rooms.
 
 Door rules (after ProcTHOR's): rooms that share a wall long enough for a door are
 neighbours. A spanning tree over neighbours is grown from the living room, cheapest edge
@@ -9,17 +9,18 @@ and a bathroom is almost never a passage to another room. Extra doors then join 
 neighbouring public rooms (open plan). Doors are ``DOOR_WIDTH`` wide (>= 0.9 m), at least
 ``DOOR_MARGIN`` from the ends of the shared wall.
 
-Walls: every side of every room is a box of half the wall thickness inside that room
-(carrying the room's wall material), with door openings cut out; sides on the footprint
-boundary get a second half outside (the house's outer skin, room -1).
+Walls: ``objsearch.house.walls.build_walls`` over ``rect_edges`` of each room (every side a
+box of half the wall thickness inside that room, door openings cut out, an outer skin on the
+footprint boundary).
 """
 
 from __future__ import annotations
 
 import numpy as np
 
-from objsearch.house.floorplan import StageFailure
-from objsearch.house.spec import Door, Wall, r4
+from objsearch.house.spec import Door, r4
+from objsearch.house.stages import StageFailure
+from objsearch.house.walls import Edge
 
 DOOR_WIDTH = (0.9, 1.1)
 DOOR_HEIGHT = 2.1
@@ -102,64 +103,7 @@ def place_doors(rects: list[Rect], types: list[str], rng: np.random.Generator, t
     return doors
 
 
-def _cut(lo: float, hi: float, holes: list[tuple[float, float]]) -> list[tuple[float, float]]:
-    pieces, cur = [], lo
-    for a, b in sorted(holes):
-        if a > cur:
-            pieces.append((cur, a))
-        cur = max(cur, b)
-    if hi > cur:
-        pieces.append((cur, hi))
-    return [(a, b) for a, b in pieces if b - a > 1e-6]
-
-
-# (axis the edge runs along, fixed coordinate, lo, hi, side): side +1 when the room lies on
-# the + side of the edge (above an ``x`` edge, east of a ``y`` edge), -1 otherwise
-Edge = tuple[str, float, float, float, int]
-
-
 def rect_edges(rect: Rect) -> list[Edge]:
     """The 4 edges of a rectangle room, in ``house-gen-1``'s wall order: bottom, top, left, right."""
     x0, y0, x1, y1 = rect
     return [("x", y0, x0, x1, 1), ("x", y1, x0, x1, -1), ("y", x0, y0, y1, 1), ("y", x1, y0, y1, -1)]
-
-
-def build_walls(
-    room_edges: list[list[Edge]],
-    doors: list[Door],
-    footprint: tuple[float, float],
-    thickness: float,
-    height: float,
-    wall_materials: list[str],
-    exterior_material: str,
-) -> list[Wall]:
-    """The walls of every room (inner half-walls, outer ones on the footprint edge), cut at the
-    doors, from each room's edges (``rect_edges``, or ``doors_v2.edges`` of a polygon) in the
-    order given: the order numbers the walls."""
-    t = thickness / 2
-    width, depth = footprint
-    walls: list[Wall] = []
-
-    def add(room, box, material):
-        walls.append(Wall(len(walls), room, tuple(r4(v) for v in box), height, material))
-
-    for rid, edges in enumerate(room_edges):
-        for axis, fixed, lo, hi, side in edges:
-            holes = []
-            for d in doors:
-                if rid not in d.rooms or d.axis != axis:
-                    continue
-                c_fixed, c_along = (d.center[1], d.center[0]) if axis == "x" else (d.center[0], d.center[1])
-                if abs(c_fixed - fixed) < 1e-6 and lo < c_along < hi:
-                    holes.append((c_along - d.width / 2, c_along + d.width / 2))
-            end = width if axis == "x" else depth
-            exterior = abs(fixed) < 1e-6 or abs(fixed - (depth if axis == "x" else width)) < 1e-6
-            for a, b in _cut(lo, hi, holes):
-                f0, f1 = sorted((fixed, fixed + side * t))
-                add(rid, (a, f0, b, f1) if axis == "x" else (f0, a, f1, b), wall_materials[rid])
-                if exterior:
-                    g0, g1 = sorted((fixed, fixed - side * t))
-                    a2 = a - t if a <= 1e-6 else a
-                    b2 = b + t if b >= end - 1e-6 else b
-                    add(-1, (a2, g0, b2, g1) if axis == "x" else (g0, a2, g1, b2), exterior_material)
-    return walls

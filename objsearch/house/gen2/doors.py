@@ -1,6 +1,6 @@
 """Stage 3 of ``house-gen-2``: doors by circulation rules, the entrance, and the edges of any rectilinear room.
 
-Door rules (the rules ``objsearch.house.validate_v2`` checks):
+Door rules (the rules ``objsearch.house.gen2.rules`` checks):
 
 * the core (hallway, living room, kitchen, dining room) is joined by a spanning tree of
   doors over the core rooms that share a wall, grown from the hallway (else the living
@@ -15,8 +15,8 @@ Door rules (the rules ``objsearch.house.validate_v2`` checks):
 * the entrance is a door in an outer wall of a core room (the hallway first), its ``rooms``
   being ``(room, OUTSIDE)``.
 
-Walls (``objsearch.house.doors.build_walls`` over ``edges``, the one wall builder of both
-generators): each edge of each room polygon is a box of half the wall thickness on the room's side
+Walls (``objsearch.house.walls.build_walls`` over ``edges``, the one wall builder of every
+generator): each edge of each room polygon is a box of half the wall thickness on the room's side
 of the edge, with its door openings cut out; edges on the footprint boundary get a second
 half outside (the outer skin, room -1), cut at the entrance too, so the entrance is a real
 opening through the outer wall.
@@ -26,10 +26,10 @@ from __future__ import annotations
 
 import numpy as np
 
-from objsearch.house.doors import Edge
-from objsearch.house.floorplan import StageFailure
-from objsearch.house.floorplan_v2 import CORE, PRIVATE, Plan
-from objsearch.house.spec import OUTSIDE, Door, Room, r4
+from objsearch.house.gen2.floorplan import CORE, PRIVATE, Plan
+from objsearch.house.spec import OUTSIDE, Door, r4
+from objsearch.house.stages import StageFailure
+from objsearch.house.walls import Edge
 
 DOOR_WIDTH = (0.9, 1.0)
 ENTRANCE_WIDTH = (0.95, 1.05)
@@ -48,7 +48,7 @@ Segment = tuple[str, float, float, float]  # (door axis, fixed coordinate, lo, h
 
 
 def edges(polygon) -> list[Edge]:
-    """Edges of a ccw rectilinear polygon (``doors.Edge``: axis the edge runs along, fixed
+    """Edges of a ccw rectilinear polygon (``walls.Edge``: axis the edge runs along, fixed
     coordinate, lo, hi, side), in the polygon's order."""
     out = []
     for k in range(len(polygon)):
@@ -194,12 +194,3 @@ def _entrance(plan: Plan, k: int, rng: np.random.Generator, thickness: float) ->
     door = _door(k, (i, OUTSIDE), seg, width, ENTRANCE_MARGIN, thickness, rng)
     assert door is not None
     return door
-
-
-def inward(room_polygon, door: Door, depth: float = 0.05) -> tuple[float, float]:
-    """The unit direction (dx, dy) from ``door``'s centre into the room of ``room_polygon``."""
-    room = Room(0, "", room_polygon, "", "")
-    cx, cy = door.center
-    if door.axis == "x":
-        return (0.0, 1.0) if room.contains(cx, cy + depth) else (0.0, -1.0)
-    return (1.0, 0.0) if room.contains(cx + depth, cy) else (-1.0, 0.0)

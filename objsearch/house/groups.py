@@ -1,4 +1,6 @@
-"""Stages 4-5: furniture in functional groups, then free objects and small objects.
+"""Furniture in functional groups, then free objects and small objects: the furnishing of one room
+that every generator's furnishing stage uses (``house-gen-1``: ``gen1.furnish``; ``house-gen-2``,
+in rooms of any shape and topped up by area: ``gen2.furnish``).
 
 Groups (placed first, as units, so their relations always hold):
 
@@ -25,14 +27,13 @@ from __future__ import annotations
 import math
 
 from objsearch.house.categories import CATEGORIES, category
-from objsearch.house.floorplan import StageFailure
-from objsearch.house.layout import GAP, SIDES, SURFACE_GAP, HouseContext, RoomLayout, box_of, surface_rect
-from objsearch.house.spec import Door, ObjectInstance, r4
+from objsearch.house.layout import GAP, SIDES, SURFACE_GAP, RoomLayout, box_of, surface_rect
+from objsearch.house.spec import ObjectInstance, r4
+from objsearch.house.stages import StageFailure
 
 OPPOSITE = {"S": "N", "N": "S", "W": "E", "E": "W"}
 YAW_SIDE = {yaw: side for side, (yaw, _) in SIDES.items()}
 FILL_ORDER = ("wall", "corner", "middle", "on_wall", "on_top")
-DOOR_CLEARANCE = 0.9
 
 
 def local_to_world(obj: ObjectInstance, lx: float, ly: float) -> tuple[float, float]:
@@ -398,22 +399,6 @@ MANDATORY = {
 }
 
 
-def door_keepouts(L: RoomLayout, room_bounds, doors: list[Door]) -> None:
-    """Keep the floor in front of every door of this room free, full height."""
-    rx0, ry0, rx1, ry1 = room_bounds
-    for d in doors:
-        if L.room_id not in d.rooms:
-            continue
-        cx, cy = d.center
-        w = d.width / 2 + 0.1
-        if d.axis == "x":
-            y_in = (cy - DOOR_CLEARANCE, cy) if abs(cy - ry1) < 1e-6 else (cy, cy + DOOR_CLEARANCE)
-            L.block((cx - w, y_in[0], 0.0, cx + w, y_in[1], 10.0))
-        else:
-            x_in = (cx - DOOR_CLEARANCE, cx) if abs(cx - rx1) < 1e-6 else (cx, cx + DOOR_CLEARANCE)
-            L.block((x_in[0], cy - w, 0.0, x_in[1], cy + w, 10.0))
-
-
 def furnish_room(L: RoomLayout, house_types: list[str], mandatory: dict | None = None) -> None:
     """Furnish one room: its mandatory groups, optional groups, then the fill categories of its type.
 
@@ -438,13 +423,3 @@ def furnish_room(L: RoomLayout, house_types: list[str], mandatory: dict | None =
         if rng.random() < cat.rooms[L.type]:
             for _ in range(int(rng.integers(cat.count[0], cat.count[1] + 1))):
                 L.try_category(cat.name)
-
-
-def furnish(ctx: HouseContext, rooms, interiors, doors: list[Door], wall_height: float) -> list[ObjectInstance]:
-    """Furnish every room of the house (door keep-outs first) and return all objects placed."""
-    types = [r.type for r in rooms]
-    for room, interior in zip(rooms, interiors):
-        L = RoomLayout(ctx, room.id, room.type, interior, wall_height)
-        door_keepouts(L, room.bounds, doors)
-        furnish_room(L, types)
-    return ctx.objects

@@ -1,14 +1,14 @@
-"""Stages 4-5 of ``house-gen-2``: ``house-gen-1``'s furniture groups and fill, in rooms of any
+"""Stages 4-5 of ``house-gen-2``: the furniture groups and fill of ``objsearch.house.groups``, in rooms of any
 rectilinear shape, topped up so that the number of objects follows the room's area.
 
 * The groups go into the room's largest rectangle (``main_rect``); the top-up then sees the
   whole room: its bounding box less its walls, with the parts of the box outside the room
   (the notch of an L) blocked, grown by the wall, so nothing stands in them.
-* Door keep-outs lie on the room's side of each door, found with the room's polygon (an L has
+* Door keep-outs (``objsearch.house.clearances``) lie on the room's side of each door, found with the room's polygon (an L has
   doors on edges that are not on its bounding box).
 * A corridor keeps a free passage along its middle (``PASSAGE`` wide).
 * Large kitchens get a table with chairs (``KITCHEN_TABLE``), so a kitchen is not an empty floor.
-* Fill: after the groups and ``house-gen-1``'s per-type fill, categories of the room's type
+* Fill: after the groups and the per-type fill (``groups.furnish_room``), categories of the room's type
   (weighted by their affinity) are tried until the room holds ``FILL_DENSITY`` objects per
   square metre; small objects go onto the receptacles their category names (``parents``).
 """
@@ -17,29 +17,18 @@ from __future__ import annotations
 
 import math
 
+from objsearch.house import groups
 from objsearch.house.categories import CATEGORIES
-from objsearch.house.doors_v2 import inward
-from objsearch.house.floorplan import StageFailure
-from objsearch.house.furnish import (
-    BED_CORRIDOR,
-    DOOR_CLEARANCE,
-    MANDATORY,
-    bed_group,
-    dining_group,
-    furnish_room,
-    toilet_and_sink,
-    tub_with_towel,
-)
+from objsearch.house.clearances import NARROW, NARROW_HALLWAY, door_keepouts, passage, shrunk, whole_layout
+from objsearch.house.groups import BED_CORRIDOR, dining_group, furnish_room, toilet_and_sink, tub_with_towel
 from objsearch.house.layout import HouseContext, RoomLayout
-from objsearch.house.spec import Door, ObjectInstance, Room, r4
+from objsearch.house.spec import Door, ObjectInstance, Room
+from objsearch.house.stages import StageFailure
 
 FILL_DENSITY = 0.4  # objects per square metre the top-up aims at
 WIDE = 3.2  # a room's main rectangle is at least this wide on both sides where it can be
 JUNCTION = 0.55  # free depth kept inside the main rectangle where it opens into the rest of an L
-NARROW = 1.6  # parts of an L narrower than this stay free (a passage, not a place for things)
 TUB_AREA = 5.5  # interior m^2 from which a bathroom may get a bathtub
-PASSAGE = 0.75  # free width kept along a corridor's middle
-NARROW_HALLWAY = 2.4  # a hallway narrower than this keeps the passage
 KITCHEN_TABLE = (9.5, 0.7)  # (minimum area m^2, probability) of a table in a kitchen
 SMALL = ("on_top", "on_wall")  # the placements of small objects (a dense room's second top-up)
 
@@ -53,10 +42,10 @@ def bathroom_group(L: RoomLayout, gid: str) -> bool:
     return True
 
 
-def bed_group_v2(L: RoomLayout, gid: str) -> bool:
+def bed_group(L: RoomLayout, gid: str) -> bool:
     """``house-gen-1``'s bed group, and the floor at the foot of the bed kept free across the bed and
     both of its side corridors (so that later furniture cannot close a corridor off); False if it does not fit."""
-    if not bed_group(L, gid):
+    if not groups.bed_group(L, gid):
         return False
     bed = next(o for o in reversed(L.objects) if o.category == "bed")
     x0, y0, x1, y1 = bed.footprint
@@ -70,48 +59,8 @@ def bed_group_v2(L: RoomLayout, gid: str) -> bool:
     return True
 
 
-MANDATORY_V2 = {**MANDATORY, "bathroom": [("bathroom", bathroom_group)], "bedroom": [("bed", bed_group_v2)]}
-
-
-def notches(room: Room) -> list[tuple[float, float, float, float]]:
-    """The parts (x0, y0, x1, y1) of the room's bounding box that are outside its polygon."""
-    if len(room.polygon) == 4:
-        return []
-    xs = sorted({p[0] for p in room.polygon})
-    ys = sorted({p[1] for p in room.polygon})
-    return [
-        (x0, y0, x1, y1)
-        for y0, y1 in zip(ys, ys[1:])
-        for x0, x1 in zip(xs, xs[1:])
-        if not room.contains((x0 + x1) / 2, (y0 + y1) / 2)
-    ]
-
-
-def door_keepouts(L: RoomLayout, room: Room, doors: list[Door]) -> None:
-    """Keep the floor in front of every door of ``room`` free, full height, on the room's side."""
-    for d in doors:
-        if room.id not in d.rooms:
-            continue
-        cx, cy = d.center
-        w = d.width / 2 + 0.1
-        dx, dy = inward(room.polygon, d)
-        if d.axis == "x":
-            y0, y1 = sorted((cy, cy + dy * DOOR_CLEARANCE))
-            L.block((cx - w, y0, 0.0, cx + w, y1, 10.0))
-        else:
-            x0, x1 = sorted((cx, cx + dx * DOOR_CLEARANCE))
-            L.block((x0, cy - w, 0.0, x1, cy + w, 10.0))
-
-
-def passage(L: RoomLayout, rect) -> None:
-    """Keep a ``PASSAGE``-wide strip free along the middle of ``rect`` (x0, y0, x1, y1), the long way."""
-    x0, y0, x1, y1 = rect
-    if x1 - x0 >= y1 - y0:
-        m = (y0 + y1) / 2
-        L.block((x0, m - PASSAGE / 2, 0.0, x1, m + PASSAGE / 2, 10.0))
-    else:
-        m = (x0 + x1) / 2
-        L.block((m - PASSAGE / 2, y0, 0.0, m + PASSAGE / 2, y1, 10.0))
+#: ``groups.MANDATORY`` with this module's bathroom and bed groups.
+MANDATORY = {**groups.MANDATORY, "bathroom": [("bathroom", bathroom_group)], "bedroom": [("bed", bed_group)]}
 
 
 def top_up(L: RoomLayout, area: float, density: float = FILL_DENSITY, placements: tuple[str, ...] = ()) -> None:
@@ -180,23 +129,6 @@ def _open_sides(room: Room, rect, h: float) -> list[tuple[float, float, float, f
     return out
 
 
-def _shrunk(rect, h: float):
-    x0, y0, x1, y1 = rect
-    return (r4(x0 + h), r4(y0 + h), r4(x1 - h), r4(y1 - h))
-
-
-def whole_layout(ctx: HouseContext, room: Room, doors: list[Door], wall_height: float, h: float, blocks) -> RoomLayout:
-    """A layout over the room's whole bounding box, its notches blocked (and ``blocks``, or its door keep-outs)."""
-    L = RoomLayout(ctx, room.id, room.type, _shrunk(room.bounds, h), wall_height)
-    if blocks:
-        L.blocks = list(blocks)
-    else:
-        door_keepouts(L, room, doors)
-    for nx0, ny0, nx1, ny1 in notches(room):
-        L.block((nx0 - h, ny0 - h, 0.0, nx1 + h, ny1 + h, 10.0))
-    return L
-
-
 def furnish(
     ctx: HouseContext,
     rooms: list[Room],
@@ -217,7 +149,7 @@ def furnish(
     h = thickness / 2
     for room in rooms:
         main = main_rect(room)
-        L = RoomLayout(ctx, room.id, room.type, _shrunk(main, h), wall_height)
+        L = RoomLayout(ctx, room.id, room.type, shrunk(main, h), wall_height)
         door_keepouts(L, room, doors)
         for box in _open_sides(room, main, h):
             L.block(box)
@@ -225,13 +157,13 @@ def furnish(
             passage(L, L.interior)
         placed = len(ctx.objects)
         try:
-            furnish_room(L, types, MANDATORY_V2)
+            furnish_room(L, types, MANDATORY)
         except StageFailure:
             if len(room.polygon) == 4 or len(ctx.objects) != placed:
                 raise
             # the group (which placed nothing) may fit across the whole L
             L = whole_layout(ctx, room, doors, wall_height, h, [])
-            furnish_room(L, types, MANDATORY_V2)
+            furnish_room(L, types, MANDATORY)
             main = room.bounds
         if (
             room.type == "kitchen"

@@ -16,11 +16,12 @@ import numpy as np
 import pytest
 
 from objsearch.errors import UserError
-from objsearch.house.floorplan import StageFailure
-from objsearch.house.generate import GENERATOR_ATTEMPTS, generate_house, size_class_for
-from objsearch.house.generate_v2 import build_spec
+from objsearch.house.gen2 import GENERATOR
+from objsearch.house.gen2.build import build_spec
+from objsearch.house.gen2.rules import FLOORPLAN_RULES, RULES, rule_problems
+from objsearch.house.generate import generate_house
 from objsearch.house.spec import OUTSIDE, HouseSpec
-from objsearch.house.validate_v2 import FLOORPLAN_RULES, RULES, rule_problems
+from objsearch.house.stages import StageFailure, size_class_for
 from objsearch.sim.world import HouseRef, World
 
 SWEEP = range(500)
@@ -30,7 +31,7 @@ SAMPLE = range(40)
 def _floorplans(seed):
     """Every floorplan (house without objects) the stages accept for ``seed`` in its first attempts."""
     out = []
-    for attempt in range(GENERATOR_ATTEMPTS["house-gen-2"]):
+    for attempt in range(GENERATOR.attempts):
         try:
             out.append(build_spec(seed, size_class_for(seed), "train", attempt, furnished=False))
         except StageFailure:
@@ -48,7 +49,7 @@ def floorplans():
 def test_floorplan_rules_hold_on_500_seeds(floorplans):
     broken = {}
     for seed, specs in floorplans.items():
-        assert specs, f"seed {seed}: no floorplan in {GENERATOR_ATTEMPTS['house-gen-2']} attempts"
+        assert specs, f"seed {seed}: no floorplan in {GENERATOR.attempts} attempts"
         for spec in specs:
             problems = rule_problems(spec)
             bad = {rule: problems[rule] for rule in FLOORPLAN_RULES if problems[rule]}

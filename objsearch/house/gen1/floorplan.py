@@ -1,6 +1,6 @@
-"""Stage 1-2: footprint, rooms (recursive splits of a rectangle) and room types.
+"""Stages 1-2 of ``house-gen-1``: footprint, rooms (recursive splits of a rectangle) and room types.
 
-A size class fixes the footprint range and the number of rooms (``SIZE_CLASSES``). The
+A size class fixes the footprint range and the number of rooms (``stages.SIZE_CLASSES``). The
 footprint rectangle is split recursively (largest room first, across its longer side, at
 35-65 %, snapped to 0.1 m) until there are as many rooms as the room program asks for, no
 room narrower than ``MIN_ROOM_SIDE``. Types then go to rooms by size: the living room gets
@@ -13,15 +13,10 @@ from __future__ import annotations
 import numpy as np
 
 from objsearch.house.spec import r4
+from objsearch.house.stages import SIZE_CLASSES, StageFailure
 
 GRID = 0.1
 MIN_ROOM_SIDE = 2.2
-
-SIZE_CLASSES = {
-    "small": {"side": (6.0, 9.0), "rooms": (3, 4)},
-    "medium": {"side": (8.0, 12.0), "rooms": (4, 6)},
-    "large": {"side": (11.0, 16.0), "rooms": (6, 9)},
-}
 
 # Relative size rank of each room type (largest first); noise keeps it from being rigid.
 SIZE_RANK = {
@@ -35,10 +30,6 @@ SIZE_RANK = {
 }
 EXTRA_WEIGHTS = {"bedroom": 3.0, "dining_room": 2.0, "office": 2.0, "bathroom": 1.5, "hallway": 1.5}
 EXTRA_CAPS = {"bedroom": 4, "dining_room": 1, "office": 2, "bathroom": 3, "hallway": 1}
-
-
-class StageFailure(Exception):
-    """A stage could not satisfy its rules with this rng; the house is resampled."""
 
 
 Rect = tuple[float, float, float, float]

@@ -1,5 +1,5 @@
-"""The rules a ``house-gen-2`` house must hold, beside ``validate``'s compile, overlap,
-reachability and visibility checks (``validate_house`` adds them for that version).
+"""The rules a ``house-gen-2`` house must hold, beside ``objsearch.house.validate``'s compile,
+overlap, reachability and visibility checks (``validate_house`` adds them: ``Generator.check_rules``).
 
 ``rule_problems(spec)`` returns ``{rule: [problems]}`` for every rule of ``RULES``:
 
@@ -23,7 +23,7 @@ from __future__ import annotations
 
 import math
 
-from objsearch.house.floorplan_v2 import AREA_LIMITS, CORE, PRIVATE
+from objsearch.house.gen2.floorplan import AREA_LIMITS, CORE, PRIVATE
 from objsearch.house.spec import OUTSIDE, HouseSpec
 
 RULES = ("core", "private", "bathroom", "hallway", "open_plan", "area", "footprint", "entrance", "fill")

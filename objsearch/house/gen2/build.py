@@ -1,13 +1,13 @@
-"""The stages of generator ``house-gen-2``: zoned floorplan -> doors and entrance -> walls ->
-furniture and fill, as one ``build_spec`` (selected by ``generate_house(..., generator="house-gen-2")``).
+"""``build_spec`` of ``house-gen-2``: zoned floorplan -> doors and entrance -> walls ->
+furniture and fill (selected by ``generate_house(..., generator="house-gen-2")``).
 The stages after the doors are ``spec_of_plan``, which single rooms (``objsearch.house.rooms``)
 share.
 
 Randomness: ``numpy.random.default_rng([seed, attempt, split, STREAM])``, so ``house-gen-2``
 houses are independent of ``house-gen-1`` houses of the same seed. The size class (3-4, 4-6
 or 6-9 rooms) is drawn per seed as in ``house-gen-1``; the footprint then follows the rooms.
-Bump ``VERSION`` (to ``house-gen-3``, keeping this one loadable) whenever the same seed would
-give a different house.
+This version is frozen: a change that would give the same seed a different house is a new
+generator package (``objsearch.house.generators``).
 """
 
 from __future__ import annotations
@@ -15,15 +15,14 @@ from __future__ import annotations
 import numpy as np
 
 from objsearch.house.categories import CATEGORY_TABLE_VERSION
-from objsearch.house.doors import build_walls
-from objsearch.house.doors_v2 import edges, place_doors
-from objsearch.house.floorplan import SIZE_CLASSES
-from objsearch.house.floorplan_v2 import Plan, plan_house, room_program
-from objsearch.house.furnish_v2 import furnish
-from objsearch.house.generate import SPLITS, WALL_HEIGHT, WALL_THICKNESS, house_id
+from objsearch.house.gen2.doors import edges, place_doors
+from objsearch.house.gen2.floorplan import Plan, plan_house, room_program
+from objsearch.house.gen2.furnish import furnish
 from objsearch.house.layout import HouseContext
 from objsearch.house.materials import EXTERIOR, room_materials
 from objsearch.house.spec import Door, HouseSpec, Room
+from objsearch.house.stages import SIZE_CLASSES, SPLITS, WALL_HEIGHT, WALL_THICKNESS, house_id
+from objsearch.house.walls import build_walls
 
 VERSION = "house-gen-2"
 STREAM = 2
@@ -59,7 +58,7 @@ def spec_of_plan(
     drawn from ``rng``, as the ``HouseSpec`` of a ``house-gen-2`` house with these fields.
 
     ``small_density`` > 0 tops every room up with small objects to that many objects per m^2
-    (``furnish_v2.furnish``); ``extra`` is the spec's ``extra``. The defaults give the
+    (``gen2.furnish.furnish``); ``extra`` is the spec's ``extra``. The defaults give the
     houses of ``build_spec``.
     """
     materials, rooms = [], []

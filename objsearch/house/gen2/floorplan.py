@@ -32,8 +32,8 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from objsearch.house.floorplan import StageFailure
 from objsearch.house.spec import r4
+from objsearch.house.stages import StageFailure
 
 GRID = 0.1
 #: Target area (m^2) a room of each type draws from (hallways get what the corridor is).
