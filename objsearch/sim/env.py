@@ -12,6 +12,7 @@ from gymnasium import spaces
 from objsearch.envs import check_action
 from objsearch.errors import UserError
 from objsearch.house.categories import CATEGORY_IDS
+from objsearch.house.rooms import ROOM_TYPES
 from objsearch.sim.cache import HouseCache, PredictedCache, Predictor, quantize_depth
 from objsearch.sim.camera import AGENT_CAMERA, RenderSettings, check_predictor_camera
 from objsearch.sim.goals import DEFAULT_RULE, GOAL_CAMERA, GoalRule, goal_poses
@@ -83,6 +84,19 @@ def draw_start(dist: np.ndarray, rng: np.random.Generator, near: np.ndarray | No
     return int(starts[rng.integers(len(starts))])
 
 
+def check_room_max_steps(room_max_steps: dict[str, int] | None) -> dict[str, int]:
+    """``room_max_steps`` (room type -> step limit) checked: types of ``ROOM_TYPES``, positive
+    integer limits; ValueError otherwise. None: {}."""
+    out = {}
+    for room, limit in (room_max_steps or {}).items():
+        if room not in ROOM_TYPES:
+            raise ValueError(f"room_max_steps: unknown room type {room!r}; use one of {', '.join(ROOM_TYPES)}")
+        if isinstance(limit, bool) or not isinstance(limit, (int, np.integer)) or limit < 1:
+            raise ValueError(f"room_max_steps[{room!r}] must be a positive integer, not {limit!r}")
+        out[room] = int(limit)
+    return out
+
+
 @dataclass(frozen=True)
 class HouseTask:
     """One episode: a house, a start pose, a target category and its goal poses.
@@ -152,8 +166,10 @@ class HouseEnv(gymnasium.Env):
 
     ## Episode End
     Terminated on success: on reaching a goal pose, or with ``stop_action`` on STOP (success
-    iff at a goal pose; ``min_steps`` then counts the STOP). Truncated after ``max_steps``
-    (1000, the paper's).
+    iff at a goal pose; ``min_steps`` then counts the STOP). Truncated after the episode's
+    step limit (``step_limit``): ``max_steps`` (1000, the paper's), or, in a single room
+    (``HouseSpec.single_room``) of a type ``room_max_steps`` lists, that type's limit where it is
+    lower (the ``rooms`` suite: 100 steps, 200 in living rooms).
 
     ## Arguments
     ``houses``: HouseRefs, or loaded ``World``s (envs that play side by side share them)
@@ -162,7 +178,8 @@ class HouseEnv(gymnasium.Env):
     each step); both give identical observations. ``settings``: the agent's camera
     (default ``objsearch.sim.camera.AGENT_CAMERA``; goal poses always come from
     ``objsearch.sim.goals.GOAL_CAMERA``). ``cache_dir``.
-    ``goal_rule``. ``targets``: categories sampled episodes may ask for. ``starts``: where
+    ``goal_rule``. ``room_max_steps``: step limits of single rooms by room type (``ROOM_TYPES``),
+    under the cap ``max_steps``. ``targets``: categories sampled episodes may ask for. ``starts``: where
     sampled episodes start, ``anywhere`` (default) or ``entrance`` (within ``ENTRANCE_STEPS``
     steps of the entrance; a house without one is a ``UserError`` on reset).
     ``observation``: ``gt`` (rendered ground truth) or ``predicted``: ``semantic`` and
@@ -178,7 +195,8 @@ class HouseEnv(gymnasium.Env):
       ``collided`` keys and the reset ``info["camera"]`` added later (computed from the
       state: the other keys, caches and records are unchanged); the reset
       ``info["stop_action"]`` and ``info["goal_rule"]`` added later; with ``stop_action``,
-      ``min_steps`` counts the STOP (before, only the moves; no suite used it then).
+      ``min_steps`` counts the STOP (before, only the moves; no suite used it then);
+      ``room_max_steps`` added later (without it every episode's limit is ``max_steps``, as before).
     """
 
     metadata = {"render_modes": ["rgb_array"], "render_fps": 4}
@@ -197,6 +215,7 @@ class HouseEnv(gymnasium.Env):
         observation: str = "gt",
         predictor: Predictor | None = None,
         starts: str = "anywhere",
+        room_max_steps: dict[str, int] | None = None,
     ):
         if mode not in MODES:
             raise ValueError(f"mode must be one of {MODES}, not {mode!r}")
@@ -214,6 +233,7 @@ class HouseEnv(gymnasium.Env):
         self.observation, self.predictor = observation, predictor
         self.refs = list(houses) if houses else [HouseRef(seed=0)]
         self.mode, self.settings, self.max_steps = mode, settings, int(max_steps)
+        self.room_max_steps = check_room_max_steps(room_max_steps)
         self.stop_action, self.cache_dir, self.goal_rule = bool(stop_action), cache_dir, goal_rule
         self.targets = tuple(targets) if targets else None
         self.render_mode = render_mode
@@ -310,6 +330,11 @@ class HouseEnv(gymnasium.Env):
             self._steps_to[key] = world.graph.shortest_steps(list(key[1]))
         return self._steps_to[key]
 
+    def step_limit(self, world: World) -> int:
+        """The step limit of an episode in ``world``: ``max_steps``, or the limit ``room_max_steps``
+        gives a single room of its type where that is lower (``max_steps`` caps every episode)."""
+        return min(self.max_steps, self.room_max_steps.get(world.spec.single_room, self.max_steps))
+
     def sample_task(self, rng: np.random.Generator) -> HouseTask:
         """A house, a target present in it, and a start ``START_STEPS`` from its goals, drawn
         by ``draw_start`` (near the entrance with ``starts="entrance"``)."""
@@ -369,7 +394,7 @@ class HouseEnv(gymnasium.Env):
         self._next = graph.next_pose
         self._target_id = CATEGORY_IDS[task.target]
         self._attach(world)
-        self._steps, self._done = 0, False
+        self._steps, self._done, self._limit = 0, False, self.step_limit(world)
         rules = {"stop_action": STOP if self.stop_action else None, "goal_rule": self.goal_rule.to_json()}
         return self._observe(), {**self._info(False), "camera": self.settings.intrinsics(), **rules}
 
@@ -388,7 +413,7 @@ class HouseEnv(gymnasium.Env):
         at_goal = bool(self._goal_mask[self._pose])
         success = (action == STOP and at_goal) if self.stop_action else at_goal
         terminated = success or (self.stop_action and action == STOP)
-        truncated = not terminated and self._steps >= self.max_steps
+        truncated = not terminated and self._steps >= self._limit
         self._done = terminated or truncated
         return self._observe(), float(success), terminated, truncated, self._info(success)
 

@@ -159,6 +159,8 @@ def house_entry(world: World, ref: HouseRef) -> dict:
         entry["generator"] = ref.generator
     if ref.placement is not None:  # left out for functional houses, so their suite files keep their bytes
         entry["placement"] = ref.placement
+    if ref.room is not None:  # a single room (the rooms suite); left out for houses
+        entry["room"] = ref.room
     return entry
 
 
@@ -177,11 +179,15 @@ def _suite_record(
     splits: dict,
     protocol: Protocol = PROTOCOLS["paper"],
     starts: str = "anywhere",
+    max_steps: int | None = None,
+    start_steps: tuple[int, int] = START_STEPS,
+    room_max_steps: dict[str, int] | None = None,
 ) -> dict:
     """A suite file's content: the given parts and the settings every suite records, those of
     ``protocol`` among them. The protocol's name and ``starts`` are recorded only when not the
-    defaults (``paper``, ``anywhere``), so that other files keep their bytes. ``version``
-    None: ``custom:`` and the content's digest."""
+    defaults (``paper``, ``anywhere``), and ``room_max_steps`` only when given, so that other
+    files keep their bytes. ``max_steps`` None: the protocol's. ``version`` None: ``custom:``
+    and the content's digest."""
     record = {
         "suite": name,
         "version": version,
@@ -189,8 +195,9 @@ def _suite_record(
         "navgraph": NAVGRAPH_VERSION,
         "goal_rule": protocol.goal_rule.to_json(),
         "goal_camera": GOAL_CAMERA.to_json(),
-        "start_steps": list(START_STEPS),
-        "max_steps": protocol.max_steps,
+        "start_steps": list(start_steps),
+        "max_steps": protocol.max_steps if max_steps is None else max_steps,
+        **({"room_max_steps": dict(room_max_steps)} if room_max_steps else {}),
         "categories": categories,
         "houses": houses,
         "training_houses": training,
@@ -239,6 +246,10 @@ def build_suite(name: str, cache_dir: str | None = None) -> dict:
         return objectnav_suite(name, load_suite_file(OBJECTNAV_SUITES[name]), cache_dir)
     base = SHUFFLED_SUITES.get(name, name)  # a shuffled suite is made as its base suite, with its draws
     rng = np.random.default_rng([SUITE_SEED, SUITE_NAMES.index(base)])
+    if name == "rooms":  # single functional rooms, the paper's AI2-THOR protocol
+        from objsearch.sim.rooms_suite import build_rooms_suite
+
+        return build_rooms_suite(name, f"{name}-v1", rng, cache_dir)
     gen, recipe = SUITE_GENERATORS.get(base), SUITE_RECIPES.get(base, base)
     if recipe == "house-single":
         candidates = {s: World.load(HouseRef(seed=s, size_class="medium", generator=gen)) for s in range(10)}

@@ -21,12 +21,16 @@ import json
 from objsearch.errors import UserError
 from objsearch.house.categories import CATEGORY_IDS, FIRST_OBJECT_ID
 from objsearch.house.generators import GENERATORS
+from objsearch.house.rooms import ROOM_SIZE_CLASS, ROOM_TYPES
 from objsearch.house.spec import HOUSE_PLACEMENTS
 from objsearch.house.stages import SIZE_CLASSES, SPLITS
 from objsearch.sim.env import STARTS
 from objsearch.sim.goals import PROTOCOLS, RULES
 from objsearch.sim.navgraph import NAVGRAPH_VERSION
 
+# Where a file's starts were drawn: ``objsearch.sim.env.STARTS``, or (the ``rooms`` suite) among the
+# poses that do not see the target.
+FILE_STARTS = (*STARTS, "not_visible")
 _POSE = {
     "type": "array",
     "prefixItems": [
@@ -43,9 +47,13 @@ _HOUSE = {
     "properties": {
         "seed": {"type": "integer", "minimum": 0, "description": "the house's generator seed"},
         "split": {"enum": list(SPLITS), "description": "the generator split the house was made for"},
-        "size_class": {"enum": [*SIZE_CLASSES, None], "description": "the house's size class"},
+        "size_class": {"enum": [*SIZE_CLASSES, ROOM_SIZE_CLASS, None], "description": "the house's size class"},
         "generator": {"enum": list(GENERATORS), "description": "the generator version"},
         "placement": {"enum": list(HOUSE_PLACEMENTS), "description": "how its objects are placed (absent: functional)"},
+        "room": {
+            "enum": list(ROOM_TYPES),
+            "description": f"a single room of this type instead of a house: one of {', '.join(ROOM_TYPES)}",
+        },
         "path": {"type": "string", "minLength": 1, "description": "the house folder, relative to the suite file"},
         "spec_sha256": {
             "type": "string",
@@ -55,7 +63,8 @@ _HOUSE = {
     },
     "required": ["spec_sha256"],
     "additionalProperties": False,
-    "description": "a house: {seed, split, size_class, spec_sha256[, generator][, placement]} or {path, spec_sha256}",
+    "description": "a house: {seed, split, size_class, spec_sha256[, generator][, placement][, room]} or "
+    "{path, spec_sha256}",
 }
 _EPISODE = {
     "type": "object",
@@ -110,11 +119,24 @@ SCHEMA = {
             "maxItems": 2,
             "description": "[fewest, most] steps of the drawn starts from the goal",
         },
-        "starts": {"enum": list(STARTS), "description": f"where starts were drawn: {' or '.join(STARTS)}"},
+        "starts": {"enum": list(FILE_STARTS), "description": f"where starts were drawn: {' or '.join(FILE_STARTS)}"},
         "max_steps": {
             "type": "integer",
             "minimum": 1,
             "description": "an episode's step limit, a positive integer (paper 1000, objectnav 500)",
+        },
+        "room_max_steps": {
+            "type": "object",
+            "properties": {
+                room: {
+                    "type": "integer",
+                    "minimum": 1,
+                    "description": f"the step limit of a {room}, a positive integer",
+                }
+                for room in ROOM_TYPES
+            },
+            "additionalProperties": False,
+            "description": "the step limits of single rooms by room type (under max_steps)",
         },
         "categories": {
             "type": "object",

@@ -27,8 +27,14 @@ regenerates the houses and refuses to run if a hash differs.
   to a random place anywhere in the house, ignoring groups and room priors), built as
   ``house-gen-v2`` is (its draws: the same targets and splits, episodes drawn the same way).
   What an agent loses here against ``house-gen-v2`` is what it owed to object relations.
+* ``rooms`` (the paper's AI2-THOR experiment): single functional rooms (``objsearch.house.rooms``),
+  30 of each of 4 types (20 training, 5 validation and 5 test rooms; "unseen env" is the 10
+  validation and test rooms), seen and unseen goals per room type from the authors' lists,
+  starts that do not see the target, 100 steps (200 in living rooms: ``room_max_steps``);
+  splits ``seen-env-seen-goals``, ``seen-env-unseen-goals``, ``unseen-env-seen-goals``,
+  ``unseen-env-unseen-goals`` (``objsearch.sim.rooms_suite``, docs/rooms.md).
 
-Episodes: 100 per split, house and target drawn uniformly, the start uniformly among poses
+Episodes (all but ``rooms``): 100 per split, house and target drawn uniformly, the start uniformly among poses
 6 to 40 minimal steps from the nearest goal pose (``START_STEPS``); 1000 steps at most (the
 paper's protocol).
 Rebuild (deliberately; bump the version): ``objsearch suite rebuild NAME``. How the files
@@ -76,6 +82,7 @@ SUITE_NAMES = (
     "house-multi-v2",
     "house-gen-v2-objectnav",
     "house-gen-v2-shuffled",
+    "rooms",
 )
 # The generator of each suite's houses (None: house-gen-1).
 SUITE_GENERATORS = {
@@ -84,6 +91,7 @@ SUITE_GENERATORS = {
     "house-multi-v2": "house-gen-2",
     "house-gen-v2-objectnav": "house-gen-2",
     "house-gen-v2-shuffled": "house-gen-2",
+    "rooms": "house-gen-2",
 }
 # The recipe (the suite of house-gen-1 houses made the same way) each suite follows.
 SUITE_RECIPES = {"house-gen-v2": "house-gen", "house-single-v2": "house-single", "house-multi-v2": "house-multi"}
@@ -103,6 +111,7 @@ SUITE_DIGESTS = {
     "house-multi-v2": "c01ede47b5dfb495dbbcf5efcca919725c73f36cd2307cd20b4d93c7f6ddf91a",
     "house-gen-v2-objectnav": "25b4286254cd944724b7b5dbca81adfbbe02d1aeb24f2ad73401e99438d96adf",
     "house-gen-v2-shuffled": "bda0dace56ff67a72911170bafb7680ff46ea100ec1a417831680d927d2329e0",
+    "rooms": "b0e6e724a75149bd9eb59d49d1f87e346c98f50c0f27d1ad502adaca7739fb9e",
 }
 MADE_FIX = "correct it, or make the file again with objsearch suite make"
 

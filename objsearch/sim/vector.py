@@ -6,7 +6,8 @@ are sampled as ``HouseEnv`` samples them (same houses, targets, goal rule and st
 range). Episodes that end are reset in the same ``step`` call (Gymnasium's same-step
 autoreset): the returned observation is the new episode's first, and ``info`` holds the
 ended episode's ``success``, ``steps`` and ``min_steps`` (arrays over the N envs, valid
-where ``terminated | truncated``).
+where ``terminated | truncated``). Each episode ends at its own step limit
+(``HouseEnv.step_limit``: ``max_steps``, lower in single rooms under ``room_max_steps``).
 """
 
 from __future__ import annotations
@@ -46,6 +47,7 @@ class HouseVectorEnv(gymnasium.vector.VectorEnv):
         self.collided = np.zeros(n, dtype=np.int64)
         self.steps = np.zeros(n, dtype=np.int64)
         self.min_steps = np.zeros(n, dtype=np.int64)
+        self.limit = np.zeros(n, dtype=np.int64)  # each episode's step limit
         self.target = np.zeros(n, dtype=np.int64)
         self._goal_rows = np.zeros(n, dtype=np.int64)  # row of self._at_goal for each env
         self._houses: list[str] = []
@@ -53,6 +55,7 @@ class HouseVectorEnv(gymnasium.vector.VectorEnv):
         self._labels: list = []  # per house: semantic and depth source (ground truth or predicted)
         self._next: list[np.ndarray] = []
         self._graphs: list = []
+        self._limits: list[int] = []  # per house: its episodes' step limit
         self._at_goal: list[np.ndarray] = []  # per (house, target): bool over that house's poses
         self._goal_keys: dict[tuple[str, str], int] = {}
         self._rng = np.random.default_rng()
@@ -65,6 +68,7 @@ class HouseVectorEnv(gymnasium.vector.VectorEnv):
             self._labels.append(self.env._labels(world))
             self._next.append(world.graph.next_pose)
             self._graphs.append(world.graph)
+            self._limits.append(self.env.step_limit(world))
         return self._houses.index(house_id)
 
     def _start(self, i: int) -> None:
@@ -79,7 +83,7 @@ class HouseVectorEnv(gymnasium.vector.VectorEnv):
             self._at_goal.append(mask)
         self.house[i], self.pose[i] = h, graph.pose_id(*task.start)
         self.start_pose[i], self.collided[i] = self.pose[i], 0
-        self.steps[i], self.min_steps[i] = 0, task.min_steps
+        self.steps[i], self.min_steps[i], self.limit[i] = 0, task.min_steps, self._limits[h]
         self.target[i], self._goal_rows[i] = CATEGORY_IDS[task.target], self._goal_keys[key]
 
     def _observe(self) -> dict[str, np.ndarray]:
@@ -113,7 +117,7 @@ class HouseVectorEnv(gymnasium.vector.VectorEnv):
     def step(self, actions):
         """Step every env; returns (obs, reward, terminated, truncated, info) arrays of shape (num_envs,).
 
-        An env ends on reaching a goal pose (success, reward 1.0) or at ``max_steps``, and restarts at once with a new
+        An env ends on reaching a goal pose (success, reward 1.0) or at its step limit, and restarts at once with a new
         task; ``info`` holds ``success``, ``steps`` and ``min_steps`` of the step taken.
         """
         actions = np.asarray(actions, dtype=np.int64)
@@ -127,7 +131,7 @@ class HouseVectorEnv(gymnasium.vector.VectorEnv):
             envs = np.flatnonzero(self._goal_rows == row)
             success[envs] = self._at_goal[row][self.pose[envs]]
         self.steps += 1
-        truncated = ~success & (self.steps >= self.max_steps)
+        truncated = ~success & (self.steps >= self.limit)
         info = {"success": success, "steps": self.steps.copy(), "min_steps": self.min_steps.copy()}
         for i in np.flatnonzero(success | truncated):
             self._start(int(i))

@@ -23,6 +23,7 @@ SHIPPED = {
         "house-gen-v2-shuffled-v1",
         "e8eeb214527e78badcfec1a9396ee6acdff65bd48a1a73083ec237274d76e021",
     ),
+    "rooms": ("rooms-v1", "31f17d636bcc4269124a39e7a887c21753d1f368f3ba5f9a55e70fe5f7ccc0ce"),
 }
 
 

@@ -134,7 +134,8 @@ class HouseSuite:
 
     def make_env(self) -> HouseEnv:
         """A ``HouseEnv`` over the suite's houses with its render mode, observation, camera, step
-        limit and protocol (STOP, and the goal rule agents are told)."""
+        limits (``max_steps``, and ``room_max_steps`` below it in single rooms) and protocol (STOP,
+        and the goal rule agents are told)."""
         rule = {key: value for key, value in self.data["goal_rule"].items() if key != "version"}
         return HouseEnv(
             list(self.worlds.values()),
@@ -146,6 +147,7 @@ class HouseSuite:
             cache_dir=self.cache_dir,
             observation=self.observation,
             predictor=self.predictor,
+            room_max_steps=self.data.get("room_max_steps"),
         )
 
     def write_video(self, directory: str, record: dict, episode: Episode, trajectory: list) -> None:
