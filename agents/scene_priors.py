@@ -300,8 +300,9 @@ class ScenePriorsConfig(JsonConfig):
     """Environment steps (summed over the parallel episodes)."""
     num_envs: int = 16
     """Episodes in lockstep (the authors' single worker; one forward pass for all)."""
-    max_steps: int = 1000
-    """Steps per training episode (the Table 3 suites' limit; ``rooms``: 100, or 200 in living rooms)."""
+    max_steps: int = 0
+    """Steps per training episode; 0: the suite's own limit (``suite_max_steps``: 1000 in the
+    Table 3 suites; the longest of a suite that sets one per room type, e.g. ``rooms``' 200)."""
     max_start_steps: int = 40
     """Episodes start 6 to this many minimal steps from the target's goal poses."""
     goal_reward: float = 10.0
@@ -343,7 +344,6 @@ class ScenePriorsConfig(JsonConfig):
             (
                 "steps",
                 "num_envs",
-                "max_steps",
                 "max_start_steps",
                 "rollout",
                 "lr_decay_steps",
@@ -353,6 +353,7 @@ class ScenePriorsConfig(JsonConfig):
             ),
             1,
         )
+        require_at_least(self, ("max_steps",), 0)
 
     @property
     def name(self) -> str:
@@ -360,6 +361,19 @@ class ScenePriorsConfig(JsonConfig):
 
     def learning_rate(self, env_steps: int) -> float:
         return max(self.lr_end, self.lr - (self.lr - self.lr_end) * env_steps / self.lr_decay_steps)
+
+
+def suite_max_steps(suite: str) -> int:
+    """A house suite's episode step limit (its file's ``max_steps``; the largest where it
+    sets one per room type)."""
+    from objsearch.sim.suites import load_suite_file
+
+    limit = load_suite_file(suite).get("max_steps")
+    if isinstance(limit, dict):
+        limit = max(limit.values(), default=None)
+    if not isinstance(limit, int) or limit < 1:
+        raise UserError(f"suite {suite} records no step limit scene_priors can train with; pass --set max_steps=N")
+    return limit
 
 
 LOG_FIELDS = ("env_steps", "episodes", "updates", "lr", "success_rate", "mean_steps", "loss", "wall_s")
@@ -544,6 +558,8 @@ def train(
 
     torch.set_num_threads(1)
     out = Path(out)
+    if config.max_steps == 0:
+        config = replace(config, max_steps=suite_max_steps(config.suite))
     if houses is None:
         houses = suite_training_houses(config.suite, "gt", cache_dir, progress, config.max_start_steps)
     predictor = predictor or feature_network()
