@@ -77,9 +77,12 @@ class HouseAgentConfig(JsonConfig):
     """Episodes over which exploration falls linearly from eps_start to eps_end."""
     curriculum_episodes: int = 10_000
     """Episode i starts among the nearest max(1, N * min((i + 10) / this, 1)) start poses."""
+    min_start_steps: int = 6
+    """Search episodes start this many to ``max_start_steps`` minimal steps from the target's
+    goal poses (the suites' window, ``START_STEPS``; ``rooms``, whose episodes start 1 step away
+    and more, trains from 1 as the authors' AI2-THOR code did)."""
     max_start_steps: int = 40
-    """Search episodes start 6 to this many minimal steps from the target's goal poses (the
-    suites' window, ``START_STEPS``; the authors' House3D DQN trained from starts under 20)."""
+    """The farthest search start (the authors' House3D DQN trained from starts under 20)."""
     pretrain_steps: int = 4_000_000
     """Environment steps of the approach pretraining of the actor-critic (0: none)."""
     pretrained: str = ""
@@ -116,6 +119,11 @@ class HouseAgentConfig(JsonConfig):
             raise UserError(
                 "explorer_target=true needs an explorer (--set explorer=PATH/policy.pt); drop it or add one"
             )
+        if self.min_start_steps > self.max_start_steps:
+            raise UserError(
+                f"min_start_steps={self.min_start_steps} is above max_start_steps={self.max_start_steps}: no search "
+                "episode could start; lower the first or raise the second"
+            )
         require_at_least(
             self,
             (
@@ -129,6 +137,7 @@ class HouseAgentConfig(JsonConfig):
                 "rollout",
                 "eps_anneal_episodes",
                 "curriculum_episodes",
+                "min_start_steps",
                 "max_start_steps",
                 "plan_every",
                 "checkpoint_every",

@@ -11,7 +11,7 @@ uniformly among that house's trainable targets, then a start from a pool sorted 
 steps to the nearest goal pose, of which episode i may use the nearest
 ``max(1, floor(N * min((i + 10) / curriculum, 1)))`` (the curriculum). Pools:
 
-* ``search`` (main phase): poses ``START_STEPS[0]`` to ``max_start_steps`` (6-40 by default)
+* ``search`` (main phase): poses ``min_start_steps`` to ``max_start_steps`` (6-40 by default)
   minimal steps from the goal poses, the evaluation episodes' range;
 * ``approach`` (pretraining the low level): poses that see the category
   (``VISIBLE_PIXELS``) and are not goal poses.
@@ -55,6 +55,10 @@ class TrainingHouses:
         predictor: if given, the agent observes its predictions (``PredictedCache``);
             goals are always judged on the ground truth.
         max_start_steps: the ``search`` pool's farthest start, in minimal steps to the goals.
+        min_start_steps: its nearest.
+        room_max_steps: step limits of single rooms by room type (a suite's
+            ``room_max_steps``, as ``HouseEnv`` takes them); an episode in such a room ends at
+            its type's limit if that is below the batch's ``max_steps``.
 
     The agent's tables come from ``AGENT_CAMERA`` frames (a predictor must be trained on
     them), goal poses from ``GOAL_CAMERA`` frames (the rule the suites use).
@@ -68,8 +72,13 @@ class TrainingHouses:
         predictor=None,
         progress: bool = True,
         max_start_steps: int = START_STEPS[1],
+        min_start_steps: int = START_STEPS[0],
+        room_max_steps: dict[str, int] | None = None,
     ):
         self.worlds = [World.load(ref) for ref in refs]
+        no_limit = np.iinfo(np.int64).max
+        limits = room_max_steps or {}
+        self.step_limits = np.array([limits.get(w.spec.single_room, no_limit) for w in self.worlds], np.int64)
         self.house_ids = [w.house_id for w in self.worlds]
         self.perception_key = None if predictor is None else predictor.key  # what the agent learns to see
         per_house, self.pairs = [], []
@@ -96,13 +105,14 @@ class TrainingHouses:
                 dist = world.graph.shortest_steps(goals).astype(np.int64)
                 pools = {}
                 if cid in target_ids:
-                    ok = (dist >= START_STEPS[0]) & (dist <= max_start_steps)
+                    ok = (dist >= min_start_steps) & (dist <= max_start_steps)
                     pools["search"] = _by_distance(ok, dist) + offset
                 ok = seen[:, cid] & (dist > 0) & (dist < np.iinfo(np.int32).max)
                 pools["approach"] = _by_distance(ok, dist) + offset
                 self.pairs.append(Pair(h, cid, goals.astype(np.int64) + offset, pools))
             offset += tables.num_poses
         self.tables = ObservationTables.concat(per_house)
+        self.pair_house = np.array([pair.house for pair in self.pairs], np.int64)
         keys = [p_ix * self.tables.num_poses + pair.goals for p_ix, pair in enumerate(self.pairs)]
         self._goal_keys = np.sort(np.concatenate(keys)) if keys else np.zeros(0, np.int64)
         self.by_pool = {
@@ -152,6 +162,7 @@ class EpisodeBatch:
 
     def __init__(self, houses: TrainingHouses, num_envs: int, max_steps: int):
         self.houses, self.max_steps = houses, int(max_steps)
+        self.limit = np.minimum(houses.step_limits, self.max_steps)  # per house
         n = int(num_envs)
         self.pose = np.zeros(n, np.int64)
         self.hist = np.zeros((n, HISTORY), np.int64)  # oldest first
@@ -172,7 +183,7 @@ class EpisodeBatch:
         self.hist = np.concatenate([self.hist[:, 1:], self.pose[:, None]], axis=1)
         self.steps += 1
         success = self.houses.at_goal(self.pair, self.pose)
-        return success, ~success & (self.steps >= self.max_steps)
+        return success, ~success & (self.steps >= self.limit[self.houses.pair_house[self.pair]])
 
     def state_dict(self) -> dict:
         return {k: getattr(self, k).copy() for k in ("pose", "hist", "steps", "pair", "target")}

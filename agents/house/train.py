@@ -420,7 +420,9 @@ def train(
     torch.set_num_threads(1)  # small networks: threads cost more than they give
     out = Path(out)
     if houses is None:
-        houses = suite_training_houses(config.suite, config.observation, cache_dir, progress, config.max_start_steps)
+        houses = suite_training_houses(
+            config.suite, config.observation, cache_dir, progress, config.max_start_steps, config.min_start_steps
+        )
     out.mkdir(parents=True, exist_ok=True)
     if command:
         with atomic_write(out / "command.txt") as f:
@@ -455,9 +457,11 @@ def suite_training_houses(
     cache_dir: str | None = None,
     progress: bool = True,
     max_start_steps: int = START_STEPS[1],
+    min_start_steps: int = START_STEPS[0],
 ) -> TrainingHouses:
     """The training houses and seen targets of a house suite (``objsearch.sim.suites``), search
-    episodes starting ``START_STEPS[0]`` to ``max_start_steps`` steps from the goals."""
+    episodes starting ``min_start_steps`` to ``max_start_steps`` steps from the goals, and
+    ending at the suite's step limits of single rooms (``room_max_steps``) where it has them."""
     from objsearch.sim.suites import load_suite_file, training_houses, training_targets
 
     suite = load_suite_file(suite_name)
@@ -467,5 +471,12 @@ def suite_training_houses(
 
         predictor = Predictor.from_checkpoint(str(resolve_checkpoint(None)), device="cpu")
     return TrainingHouses(
-        training_houses(suite), training_targets(suite), cache_dir, predictor, progress, max_start_steps
+        training_houses(suite),
+        training_targets(suite),
+        cache_dir,
+        predictor,
+        progress,
+        max_start_steps,
+        min_start_steps,
+        suite.get("room_max_steps"),
     )

@@ -46,6 +46,40 @@ def test_search_starts_lie_in_the_configured_window(houses, cache_dir):
     assert any(len(n.pools["search"]) < len(w.pools["search"]) for w, n in zip(houses.pairs, near.pairs))
 
 
+def test_single_rooms_train_from_one_step_and_end_at_their_types_limit(cache_dir):
+    """``rooms``: starts from 1 step (the suite's episodes start that near) and each room's step
+    limit (``room_max_steps``) ends its training episodes, as ``HouseEnv`` ends evaluation ones."""
+    kitchen, bathroom = HouseRef(seed=0, room="kitchen"), HouseRef(seed=0, room="bathroom")
+    limits = {"kitchen": 7, "bathroom": 3}
+    rooms = TrainingHouses(
+        [kitchen, bathroom], ["stove", "toilet"], cache_dir, progress=False, min_start_steps=1, room_max_steps=limits
+    )
+    assert rooms.step_limits.tolist() == [7, 3]
+    world = World.load(bathroom)
+    for pair in rooms.pairs:
+        if pair.house == 1 and "search" in pair.pools:
+            offset = rooms.tables.num_poses - world.graph.num_poses
+            assert world.graph.shortest_steps(pair.goals - offset)[pair.pools["search"] - offset].min() == 1
+    batch = EpisodeBatch(rooms, 2, max_steps=5)  # below the kitchen's 7: the batch's cap holds
+    pairs = np.array(
+        [next(i for i, p in enumerate(rooms.pairs) if p.house == h and "search" in p.pools) for h in (0, 1)]
+    )
+    far = [rooms.pairs[p].pools["search"][-1] for p in pairs]
+    batch.start(np.arange(2), pairs, np.array(far))
+    ended = [None, None]
+    stay = np.array([1, 1])  # turning in place: no goal pose from starts more than 2 steps away
+    for i, p in enumerate(pairs):
+        offset = 0 if i == 0 else rooms.tables.num_poses - world.graph.num_poses
+        graph = World.load([kitchen, bathroom][i]).graph
+        assert graph.shortest_steps(rooms.pairs[p].goals - offset)[far[i] - offset] > 2
+    for step in range(1, 8):
+        success, truncated = batch.step(stay)
+        for i in range(2):
+            if ended[i] is None and (success[i] or truncated[i]):
+                ended[i] = (step, bool(success[i]))
+    assert ended == [(5, False), (3, False)]
+
+
 def test_tables_equal_the_wrappers(cache_dir):
     env = HouseEnv([SMALL], mode="cached", cache_dir=cache_dir)
     wrapped = FrameHistory(TargetMaskDepth(env), 4)
