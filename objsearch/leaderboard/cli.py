@@ -113,16 +113,25 @@ def _writing(root: str | Path):
         yield
 
 
-def default_name(agent: str) -> str:
+def default_name(agent: str, observation: str = "gt") -> str:
     """An entry name from an agent spec: ``mypkg.mymodule:MyAgent`` gives ``mypkg.mymodule.MyAgent``,
     a file agent ``/path/to/seek_agent.py:SeekAgent`` gives ``seek_agent.SeekAgent`` (the file's
-    module name, as if imported); characters a name cannot hold become ``_``."""
+    module name, as if imported); characters a name cannot hold become ``_``. Results on the
+    perception network's predictions (``observation`` ``predicted``) get ``PREDICTED_SUFFIX``,
+    so that they never take the place of the same agent's ground-truth entry."""
     from objsearch.eval.registry import is_file_spec
+    from objsearch.leaderboard.paper import PREDICTED_SUFFIX
 
     if is_file_spec(agent):
         path, _, attr = agent.rpartition(":")
         agent = f"{Path(path).stem}:{attr}"
-    return re.sub(r"[^A-Za-z0-9_.-]", "_", agent.replace(":", ".")).lstrip("_.-")
+    name = re.sub(r"[^A-Za-z0-9_.-]", "_", agent.replace(":", ".")).lstrip("_.-")
+    return name + (PREDICTED_SUFFIX if observation == "predicted" else "")
+
+
+def observation_of(results: dict) -> str:
+    """What the results' agent observed: ``gt`` or ``predicted`` (the suite's ``observation`` option)."""
+    return (results.get("config", {}).get("suite_config") or {}).get("observation") or "gt"
 
 
 def run_check(args: argparse.Namespace) -> int:
@@ -162,7 +171,7 @@ def run_add(args: argparse.Namespace) -> int:
     for folder in (root, Path(root, SUBMISSIONS)):  # the pages, the entries: before the slow validation
         check_writable(folder, "leaderboard folder", folder=True)
     results = _validated(args.file, args.partial)
-    name = args.name if args.name is not None else default_name(results["agent"])
+    name = args.name if args.name is not None else default_name(results["agent"], observation_of(results))
     check_entry_name(name, f"agent {results['agent']!r}")
     target = Path(root, SUBMISSIONS, results["suite"], f"{name}.json")
     check_writable(target, "entry")

@@ -50,3 +50,5 @@ def test_default_entry_names():
     assert default_name("/home/me/seek_agent.py:SeekAgent") == "seek_agent.SeekAgent"
     assert default_name("mypkg.mymodule:MyAgent") == "mypkg.mymodule.MyAgent"
     assert default_name("hrl_grg") == "hrl_grg"
+    # results on the perception network's predictions never take the ground-truth entry's name
+    assert default_name("hrl_grg", "predicted") == "hrl_grg_predicted"
