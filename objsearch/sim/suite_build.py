@@ -4,8 +4,8 @@ suite make``). Reading them, and what the harness needs of them, is ``objsearch.
 
 Episodes: ``EPISODES_PER_SPLIT`` per split, house and target drawn uniformly, the start
 uniformly among poses 6 to 40 minimal steps from the nearest goal pose (``START_STEPS``);
-a new shipped suite is a name in ``objsearch.sim.suites.SUITE_NAMES``, its branch in
-``build_suite`` and its file. Under the ObjectNav protocol (``objsearch.sim.goals.PROTOCOLS``)
+a new shipped suite is a record in ``objsearch.sim.suites.SHIPPED`` (whose ``recipe`` picks
+its branch in ``build_suite``) and its file. Under the ObjectNav protocol (``objsearch.sim.goals.PROTOCOLS``)
 goal poses come from its rule, ``min_steps`` counts the STOP and episodes have its step limit;
 ``objectnav_suite`` makes a paper-protocol suite's episodes into such a suite.
 """
@@ -25,11 +25,8 @@ from objsearch.sim.goals import GOAL_CAMERA, PROTOCOLS, GoalRule, Protocol, goal
 from objsearch.sim.navgraph import NAVGRAPH_VERSION
 from objsearch.sim.suite_schema import content_digest
 from objsearch.sim.suites import (
-    OBJECTNAV_SUITES,
-    SHUFFLED_SUITES,
-    SUITE_GENERATORS,
+    SHIPPED_SUITES,
     SUITE_NAMES,
-    SUITE_RECIPES,
     load_house,
     load_houses,
     load_suite_file,
@@ -240,17 +237,18 @@ def objectnav_suite(name: str, paper: dict, cache_dir: str | None = None) -> dic
 
 def build_suite(name: str, cache_dir: str | None = None) -> dict:
     """Build a suite from its fixed seeds (renders every pose of its evaluation houses)."""
-    if name not in SUITE_NAMES:
+    if name not in SHIPPED_SUITES:
         raise UserError(f"unknown house suite {name!r}; known: {', '.join(SUITE_NAMES)}")
-    if name in OBJECTNAV_SUITES:
-        return objectnav_suite(name, load_suite_file(OBJECTNAV_SUITES[name]), cache_dir)
-    base = SHUFFLED_SUITES.get(name, name)  # a shuffled suite is made as its base suite, with its draws
-    rng = np.random.default_rng([SUITE_SEED, SUITE_NAMES.index(base)])
-    if name == "rooms":  # single functional rooms, the paper's AI2-THOR protocol
+    shipped = SHIPPED_SUITES[name]
+    if shipped.objectnav_of:
+        return objectnav_suite(name, load_suite_file(shipped.objectnav_of), cache_dir)
+    base = SHIPPED_SUITES[shipped.shuffled_of or name]  # a shuffled suite is made as its base suite, with its draws
+    rng = np.random.default_rng([SUITE_SEED, SUITE_NAMES.index(base.name)])
+    gen, recipe = base.generator, base.recipe
+    if recipe == "rooms":  # single functional rooms, the paper's AI2-THOR protocol
         from objsearch.sim.rooms_suite import build_rooms_suite
 
         return build_rooms_suite(name, f"{name}-v1", rng, cache_dir)
-    gen, recipe = SUITE_GENERATORS.get(base), SUITE_RECIPES.get(base, base)
     if recipe == "house-single":
         candidates = {s: World.load(HouseRef(seed=s, size_class="medium", generator=gen)) for s in range(10)}
 
@@ -281,7 +279,7 @@ def build_suite(name: str, cache_dir: str | None = None) -> dict:
             "val": [HouseRef(seed=s, split="test", generator=gen) for s in range(2000, 2010)],
             "test": [HouseRef(seed=s, split="test", generator=gen) for s in range(3000, 3010)],
         }
-    if name in SHUFFLED_SUITES:  # the same houses, their objects shuffled
+    if shipped.shuffled_of:  # the same houses, their objects shuffled
         eval_refs = {key: [replace(r, placement="shuffled") for r in refs] for key, refs in eval_refs.items()}
         train_refs = [replace(r, placement="shuffled") for r in train_refs]
 

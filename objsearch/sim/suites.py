@@ -40,9 +40,11 @@ paper's protocol).
 Rebuild (deliberately; bump the version): ``objsearch suite rebuild NAME``. How the files
 are built, the shipped ones and users' own: ``objsearch.sim.suite_build``.
 
-``SUITE_NAMES`` is the one list of the shipped house suites (the harness's registry,
-``objsearch.eval.suites.SUITES``, takes them from here); a new house suite is a name there,
-its branch in ``suite_build.build_suite`` and its file.
+``SHIPPED`` declares the shipped house suites, one ``ShippedSuite`` record each (name,
+content digest, recipe, generator, the suite it is made from); ``SUITE_NAMES`` and the
+other tables are views of it, and the harness's registry (``objsearch.eval.suites.SUITES``)
+takes the names from there. A new shipped suite is a record there (a new recipe also a
+branch in ``suite_build.build_suite``) and its file (``docs/add_a_suite.md``).
 
 A user's own houses (folders written by ``objsearch generate``) make a suite file with
 ``objsearch suite make`` (``suite_build.suite_from_houses``): the same fields, with each
@@ -62,6 +64,7 @@ from __future__ import annotations
 import json
 import os
 import sys
+from dataclasses import dataclass
 from functools import lru_cache
 from pathlib import Path
 
@@ -72,47 +75,85 @@ from objsearch.sim.goals import PROTOCOLS, Protocol
 from objsearch.sim.world import HouseRef, World
 
 DATA_DIR = Path(__file__).parent / "data"
+
+
+@dataclass(frozen=True)
+class ShippedSuite:
+    """A shipped house suite, declared once (``SHIPPED``); ``suite_build.build_suite`` makes its file.
+
+    Attributes:
+        name: the suite's name (its file is ``data/<name>.json``).
+        digest: sha256 of the file's content (``suite_schema.content_digest``): its version
+            holds only for this content. A deliberate rebuild (``objsearch suite rebuild NAME``
+            prints it) bumps the version and this.
+        recipe: how its houses and episodes are drawn: ``house-single``, ``house-multi`` or
+            ``house-gen`` (``suite_build``), ``rooms`` (``rooms_suite``); None for a suite made
+            from another one (below), which follows that one's.
+        generator: its houses' generator; None: ``house-gen-1``, left out of the file's house
+            entries so that the v1 files keep their bytes.
+        objectnav_of: the paper-protocol suite whose houses, targets, splits and starts it
+            plays under the ObjectNav protocol.
+        shuffled_of: the suite whose houses (objects shuffled), seeds and draws it is made with.
+    """
+
+    name: str
+    digest: str
+    recipe: str | None = None
+    generator: str | None = None
+    objectnav_of: str | None = None
+    shuffled_of: str | None = None
+
+
 # The shipped house suites, in this order for good: a suite's index seeds its builder.
-SUITE_NAMES = (
-    "house-single",
-    "house-multi",
-    "house-gen",
-    "house-gen-v2",
-    "house-single-v2",
-    "house-multi-v2",
-    "house-gen-v2-objectnav",
-    "house-gen-v2-shuffled",
-    "rooms",
+SHIPPED = (
+    ShippedSuite(
+        "house-single", "1abc146b5673fa9ddeb5d0b77908b4820fe7259d2115971bff83c52c261eac79", recipe="house-single"
+    ),
+    ShippedSuite(
+        "house-multi", "d6222bc5441477d581ac67717740d9aa16d311911f0ef38412efd96d227f015f", recipe="house-multi"
+    ),
+    ShippedSuite("house-gen", "335992bd0ec90820bca3fd0120e2bd667088ede69ab5bee1ecb295d53ab058ea", recipe="house-gen"),
+    ShippedSuite(
+        "house-gen-v2",
+        "e5e22e620fb28c5d268eecdc32ca9a1d3ae1ea7fc6179f4b6c9f129d7b72049d",
+        recipe="house-gen",
+        generator="house-gen-2",
+    ),
+    ShippedSuite(
+        "house-single-v2",
+        "80465c6e4a57889848fc7d139e6bd952e4fc2300ebddf639d3f719c1bb1344f0",
+        recipe="house-single",
+        generator="house-gen-2",
+    ),
+    ShippedSuite(
+        "house-multi-v2",
+        "c01ede47b5dfb495dbbcf5efcca919725c73f36cd2307cd20b4d93c7f6ddf91a",
+        recipe="house-multi",
+        generator="house-gen-2",
+    ),
+    ShippedSuite(
+        "house-gen-v2-objectnav",
+        "25b4286254cd944724b7b5dbca81adfbbe02d1aeb24f2ad73401e99438d96adf",
+        objectnav_of="house-gen-v2",
+    ),
+    ShippedSuite(
+        "house-gen-v2-shuffled",
+        "bda0dace56ff67a72911170bafb7680ff46ea100ec1a417831680d927d2329e0",
+        shuffled_of="house-gen-v2",
+    ),
+    ShippedSuite(
+        "rooms",
+        "b0e6e724a75149bd9eb59d49d1f87e346c98f50c0f27d1ad502adaca7739fb9e",
+        recipe="rooms",
+        generator="house-gen-2",
+    ),
 )
-# The generator of each suite's houses (None: house-gen-1).
-SUITE_GENERATORS = {
-    "house-gen-v2": "house-gen-2",
-    "house-single-v2": "house-gen-2",
-    "house-multi-v2": "house-gen-2",
-    "house-gen-v2-objectnav": "house-gen-2",
-    "house-gen-v2-shuffled": "house-gen-2",
-    "rooms": "house-gen-2",
-}
-# The recipe (the suite of house-gen-1 houses made the same way) each suite follows.
-SUITE_RECIPES = {"house-gen-v2": "house-gen", "house-single-v2": "house-single", "house-multi-v2": "house-multi"}
-# The suites of the ObjectNav protocol made from a paper-protocol suite's episodes: name -> that suite.
-OBJECTNAV_SUITES = {"house-gen-v2-objectnav": "house-gen-v2"}
-# The suites of shuffled houses (placement "shuffled") made as another suite is made, from its
-# seeds, categories and episode draws: name -> that suite.
-SHUFFLED_SUITES = {"house-gen-v2-shuffled": "house-gen-v2"}
-# sha256 of each shipped file's content (``suite_schema.content_digest``): its version holds only for
-# this content. A deliberate rebuild (objsearch suite rebuild NAME prints it) bumps the version and this.
-SUITE_DIGESTS = {
-    "house-single": "1abc146b5673fa9ddeb5d0b77908b4820fe7259d2115971bff83c52c261eac79",
-    "house-multi": "d6222bc5441477d581ac67717740d9aa16d311911f0ef38412efd96d227f015f",
-    "house-gen": "335992bd0ec90820bca3fd0120e2bd667088ede69ab5bee1ecb295d53ab058ea",
-    "house-gen-v2": "e5e22e620fb28c5d268eecdc32ca9a1d3ae1ea7fc6179f4b6c9f129d7b72049d",
-    "house-single-v2": "80465c6e4a57889848fc7d139e6bd952e4fc2300ebddf639d3f719c1bb1344f0",
-    "house-multi-v2": "c01ede47b5dfb495dbbcf5efcca919725c73f36cd2307cd20b4d93c7f6ddf91a",
-    "house-gen-v2-objectnav": "25b4286254cd944724b7b5dbca81adfbbe02d1aeb24f2ad73401e99438d96adf",
-    "house-gen-v2-shuffled": "bda0dace56ff67a72911170bafb7680ff46ea100ec1a417831680d927d2329e0",
-    "rooms": "b0e6e724a75149bd9eb59d49d1f87e346c98f50c0f27d1ad502adaca7739fb9e",
-}
+SHIPPED_SUITES = {suite.name: suite for suite in SHIPPED}
+# Views of SHIPPED that the rest of objsearch reads.
+SUITE_NAMES = tuple(SHIPPED_SUITES)
+SUITE_DIGESTS = {suite.name: suite.digest for suite in SHIPPED}
+OBJECTNAV_SUITES = {suite.name: suite.objectnav_of for suite in SHIPPED if suite.objectnav_of}
+SHUFFLED_SUITES = {suite.name: suite.shuffled_of for suite in SHIPPED if suite.shuffled_of}
 MADE_FIX = "correct it, or make the file again with objsearch suite make"
 
 
