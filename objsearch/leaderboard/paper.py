@@ -34,6 +34,7 @@ PAPER_NAMES = {
     "hrl_grg_no_termination": "HRL-GRG -termination",
     "hrl_grg_no_high_level": "HRL-GRG -high-level",
     "frontier": "Frontier (not in the paper)",
+    "scene_priors": "Scene Priors",
 }
 TRAINING_FREE = ("random", "oracle", "frontier")
 """The shipped agents that load no weights: any other entry that reports no training runs
