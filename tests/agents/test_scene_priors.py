@@ -186,6 +186,22 @@ def test_scene_priors_learns_a_trivial_task_and_beats_random(room, trained):
     assert [r["env_steps"] for r in trained.run.rows] == [400, 800, 1200]
 
 
+def test_resume_is_exact(room, cache_dir, tmp_path):
+    """A run stopped mid-rollout and resumed with more steps ends where one uninterrupted run does."""
+    config = replace(ScenePriorsConfig(), steps=96, num_envs=8, max_steps=8, rollout=8, pool="approach", log_every=32)
+    kwargs = dict(houses=room.houses, cache_dir=cache_dir, progress=False, predictor=room.predictor)
+    whole = train(replace(config, steps=192), tmp_path / "whole", **kwargs)
+    train(config, tmp_path / "parts", **kwargs)
+    resumed = train(replace(config, steps=192), tmp_path / "parts", **kwargs)
+    assert resumed.counters["env_steps"] == whole.counters["env_steps"] == 192
+    untimed = lambda rows: [{k: v for k, v in r.items() if k != "wall_s"} for r in rows]
+    assert untimed(resumed.rows) == untimed(whole.rows) and len(whole.rows) == 6
+    for a, b in zip(whole.net.state_dict().values(), resumed.net.state_dict().values()):
+        assert torch.equal(a, b)
+    with pytest.raises(UserError):  # another recipe in the same folder is refused
+        train(replace(config, steps=192, lr=1e-3), tmp_path / "parts", **kwargs)
+
+
 def test_tables_are_keyed_and_the_agent_sees_what_training_saw(room, trained, cache_dir):
     """The tables sit beside the observation cache, named by the perception network; the
     evaluated agent computes the same features from the env's RGB frame."""
