@@ -302,9 +302,12 @@ class ScenePriorsConfig(JsonConfig):
     """Episodes in lockstep (the authors' single worker; one forward pass for all)."""
     max_steps: int = 0
     """Steps per training episode; 0: the suite's own limit (``suite_max_steps``: 1000 in the
-    Table 3 suites; the longest of a suite that sets one per room type, e.g. ``rooms``' 200)."""
+    Table 3 suites, ``rooms``' cap 200; its single rooms end at their type's limit, ``room_max_steps``)."""
+    min_start_steps: int = 6
+    """Episodes start this many to ``max_start_steps`` minimal steps from the target's goal poses
+    (the suites' window; on ``rooms`` the authors' AI2-THOR code started from 1: ``--set min_start_steps=1``)."""
     max_start_steps: int = 40
-    """Episodes start 6 to this many minimal steps from the target's goal poses."""
+    """The farthest start."""
     goal_reward: float = 10.0
     """Reward on reaching a goal pose."""
     step_reward: float = -0.01
@@ -339,11 +342,17 @@ class ScenePriorsConfig(JsonConfig):
     def __post_init__(self):
         if self.pool not in ("search", "approach"):
             raise UserError(f"pool must be search or approach, not {self.pool!r}")
+        if self.min_start_steps > self.max_start_steps:
+            raise UserError(
+                f"min_start_steps={self.min_start_steps} is above max_start_steps={self.max_start_steps}: no episode "
+                "could start; lower the first or raise the second"
+            )
         require_at_least(
             self,
             (
                 "steps",
                 "num_envs",
+                "min_start_steps",
                 "max_start_steps",
                 "rollout",
                 "lr_decay_steps",
@@ -561,7 +570,9 @@ def train(
     if config.max_steps == 0:
         config = replace(config, max_steps=suite_max_steps(config.suite))
     if houses is None:
-        houses = suite_training_houses(config.suite, "gt", cache_dir, progress, config.max_start_steps)
+        houses = suite_training_houses(
+            config.suite, "gt", cache_dir, progress, config.max_start_steps, config.min_start_steps
+        )
     predictor = predictor or feature_network()
     features = FeatureTables.of_houses(houses, predictor, cache_dir, progress)
     run = ScenePriorsRun(config, out, houses, features, predictor.key, prior_graph())
