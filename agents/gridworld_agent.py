@@ -200,7 +200,7 @@ class GridAgent(OneSlotBatch):
 
 
 def describe(config: GridAgentConfig) -> str:
-    if config.method != "hrl_grg":
-        return config.method
-    off = [n for n in ("relation", "termination", "high_level") if not getattr(config, n)]
-    return "hrl_grg" + "".join(f"_no_{n}" for n in off)
+    """The agent name of the method and ablation ``config`` trains."""
+    from objsearch_agents.methods import method_of
+
+    return method_of(config.method).agent_name(config)

@@ -109,4 +109,7 @@ class GridAgentConfig(JsonConfig):
 
     @property
     def hierarchical(self) -> bool:
-        return self.method != "dqn"
+        """Whether the method chooses sub-goals for a low level (h-DQN, HRL-GRG)."""
+        from objsearch_agents.methods import method_of
+
+        return method_of(self.method).hierarchical

@@ -18,9 +18,9 @@ from __future__ import annotations
 import numpy as np
 import torch
 
-from objsearch_agents.grg import GoalsRelationalGraph
 from objsearch_agents.gridworld_config import GridAgentConfig
-from objsearch_agents.nets import grg_high_net, hdqn_high_net, low_level_net, seeded_init
+from objsearch_agents.methods import method_of
+from objsearch_agents.nets import low_level_net, seeded_init
 from objsearch_agents.rows import rows_of
 
 CENTRE = 3
@@ -67,7 +67,8 @@ def candidate_inputs(images: np.ndarray, weights: np.ndarray, rows: np.ndarray, 
     return out
 
 
-def _t(x: np.ndarray) -> torch.Tensor:
+def as_tensor(x: np.ndarray) -> torch.Tensor:
+    """float32 torch view of an array (copied only if not already contiguous float32)."""
     return torch.from_numpy(np.ascontiguousarray(x, dtype=np.float32))
 
 
@@ -75,20 +76,23 @@ class GridPolicy:
     """Networks, GRG and the per-episode option state of N grid-world episodes."""
 
     def __init__(self, config: GridAgentConfig, num_goals: int = 16):
+        from objsearch_agents.gridworld_world import GridWorldAdapter
+
         self.config = config
+        self.method = method_of(config.method)
         self.num_goals = g = int(num_goals)
         self.random_node = g
+        self.world = GridWorldAdapter(g)
         self.low = seeded_init(low_level_net, config.seed)
-        self.high = None
-        if config.method == "hdqn":
-            self.high = seeded_init(hdqn_high_net, config.seed + 1, g)
-        elif config.method == "hrl_grg" and config.high_level:
-            self.high = seeded_init(grg_high_net, config.seed + 1)
-        self.grg = None
-        if config.method == "hrl_grg":
-            self.grg = GoalsRelationalGraph(g + 1, config.option_steps, config.grg_gamma, observable=g)
+        self.high = self.method.q_network(config, self.world)
+        self.grg = self.method.graph(config, self.world)
         self.refresh_plans()
         self.start(0)
+
+    @property
+    def q(self):
+        """The high level's Q-network, learned by Double DQN (the methods' name for it; None: none)."""
+        return self.high
 
     # -- GRG plans ----------------------------------------------------------------------
     def refresh_plans(self) -> None:
@@ -142,38 +146,10 @@ class GridPolicy:
         rng = rows_of(rng, need)
         explore = rng.random(len(need)) < epsilon[need]
         noise = rng.random(cand.shape)
-        if self.config.method == "hdqn":
-            onehot = np.eye(self.num_goals, dtype=np.float32)[self.goal[need]]
-            q = self.high(_t(imgs), _t(onehot)).numpy()
-            greedy = np.where(cand, q, -np.inf).argmax(axis=1)
-            uniform = np.where(cand, noise, -1.0).argmax(axis=1)
-            choice = np.where(explore, uniform, greedy)
-        else:
-            values = self.values[need]
-            if self.high is not None:
-                greedy = self._grg_q_argmax(imgs, cand, values)
-            else:  # "-high-level": the visible candidate with the best plan value
-                greedy = np.where(cand, values, -1.0).argmax(axis=1)
-            # Exploration samples softmax(plan values) over the candidates (Gumbel-max).
-            gumbel = -np.log(-np.log(np.clip(noise, 1e-12, 1 - 1e-12)))
-            soft = np.where(cand, values + gumbel, -np.inf).argmax(axis=1)
-            choice = np.where(explore, soft, greedy)
+        choice = self.method.choose_subgoals(self, imgs, self.goal[need], cand, explore, noise, need)
         self.subgoal[need] = choice
         self.option_steps[need] = 0
         self.first_seen[need] = 0
-
-    def relation_weights(self, values: np.ndarray) -> np.ndarray:
-        return values if self.config.relation else np.ones_like(values)
-
-    def _grg_q_argmax(self, images: np.ndarray, cand: np.ndarray, values: np.ndarray, net=None) -> np.ndarray:
-        """argmax over the candidates of Q(obstacles, candidate channel * C), one forward
-        pass for all (env, candidate) pairs."""
-        net = self.high if net is None else net
-        env_ix, node_ix = np.nonzero(cand)
-        inputs = candidate_inputs(images, self.relation_weights(values), env_ix, node_ix)
-        q = np.full(cand.shape, -np.inf, dtype=np.float32)
-        q[env_ix, node_ix] = net(torch.from_numpy(inputs))[:, 0].numpy()
-        return q.argmax(axis=1)
 
     @torch.no_grad()
     def actions(self, images: np.ndarray, epsilon: float | np.ndarray, rng) -> tuple[np.ndarray, np.ndarray]:
@@ -183,9 +159,9 @@ class GridPolicy:
         hierarchical agents on (obstacles, sub-goal channel), uniformly for "random".
         """
         n = len(images)
-        node = self.goal if not self.config.hierarchical else self.subgoal
+        node = self.subgoal if self.method.hierarchical else self.goal
         low_in = goal_input(images, node)
-        q = self.low(_t(low_in)).numpy()
+        q = self.low(as_tensor(low_in)).numpy()
         greedy = q.argmax(axis=1)
         explore = rng.random(n) < epsilon
         random_actions = rng.integers(q.shape[1], size=n)
@@ -196,7 +172,7 @@ class GridPolicy:
         """Update the options after an env step (``images``: the observations it led to,
         before any reset). Ends options, counts them into the GRG if ``count``, and returns
         bool (N,): the options that ended."""
-        if not self.config.hierarchical:
+        if not self.method.hierarchical:
             return np.zeros(len(images), dtype=bool)
         active = self.subgoal >= 0
         self.option_steps[active] += 1
@@ -208,10 +184,9 @@ class GridPolicy:
         under = goals_under_agent(images)
         reached = active & real & under[np.arange(len(sg)), np.minimum(sg, self.num_goals - 1)]
         ended = active & (reached | (self.option_steps >= self.config.option_steps) | episode_over)
-        if self.grg is not None and self.config.termination:
-            vis_nodes = np.concatenate([vis, np.zeros((len(vis), 1), dtype=bool)], axis=1)
-            later = self.successors[np.arange(len(sg)), sg]  # (N, G+1)
-            ended |= active & (vis_nodes & later).any(axis=1)
+        ended_by_method = self.method.ends_options(self, images, sg)  # HRL-GRG: plan termination
+        if ended_by_method is not None:
+            ended |= active & ended_by_method
         if count and self.grg is not None and ended.any():
             ix = np.flatnonzero(ended)
             self.grg.record_options(self.subgoal[ix], self.first_seen[ix])

@@ -49,7 +49,7 @@ from objsearch.gridworld.batched import HALF, BatchedGridWorld, GridTables
 from objsearch.gridworld.maps import GridMap
 from objsearch.gridworld.tasks import SEEN_GOALS
 from objsearch.interrupt import stop_on_interrupt
-from objsearch_agents.dqn_learner import Learner, flat_loss, grg_high_loss, hdqn_high_loss
+from objsearch_agents.dqn_learner import Learner, flat_loss
 from objsearch_agents.gridworld_checkpoint import CONFIG_FILE, LOG_FILE, STATE_FILE, load_policy_file, save_policy
 from objsearch_agents.gridworld_config import GridAgentConfig
 from objsearch_agents.gridworld_policy import GridPolicy, goal_input, goals_under_agent
@@ -234,12 +234,7 @@ class TrainRun:
                 did = True
             if self.high_replay is not None and len(self.high_replay) >= max(c.learning_starts, c.batch_size):
                 batch = self.high_replay.sample(c.batch_size, self.rng)
-                if c.method == "hdqn":
-                    loss = hdqn_high_loss(self.high, batch, self.tables.num_goals)
-                else:
-                    weights = self.policy.relation_weights(self.policy.plan_values[: self.tables.num_goals])
-                    loss = grg_high_loss(self.high, batch, weights)
-                loss = self.high.step(loss)
+                loss = self.high.step(self.policy.method.q_loss(self.high, batch, self.policy, self.tables))
                 self.window["loss_high"][0] += loss
                 self.window["loss_high"][1] += 1
                 did = True

@@ -24,7 +24,8 @@ os.environ.setdefault("MUJOCO_GL", "egl")
 import torch  # noqa: E402
 
 from objsearch_agents.house.config import HouseAgentConfig  # noqa: E402
-from objsearch_agents.house.train import HouseTrainRun, suite_training_houses  # noqa: E402
+from objsearch_agents.house.train import suite_training_houses  # noqa: E402
+from objsearch_agents.house.train_run import HouseTrainRun  # noqa: E402
 
 METHODS = ("a3c", "dqn", "hdqn", "hrl_grg")
 
@@ -34,12 +35,12 @@ def steps_per_s(method: str, houses, seconds: float) -> tuple[float, float]:
     with tempfile.TemporaryDirectory() as out:
         run = HouseTrainRun(config, out, houses)
         run.begin()
-        while run.counters["env_steps"] < 2 * config.learning_starts:  # warm-up: replay filled, learning on
+        while run.counters.env_steps < 2 * config.learning_starts:  # warm-up: replay filled, learning on
             run.step()
-        start, wall, cpu = run.counters["env_steps"], time.perf_counter(), time.process_time()
+        start, wall, cpu = run.counters.env_steps, time.perf_counter(), time.process_time()
         while time.perf_counter() - wall < seconds:
             run.step()
-        steps = run.counters["env_steps"] - start
+        steps = run.counters.env_steps - start
         return steps / (time.perf_counter() - wall), steps / (time.process_time() - cpu)
 
 

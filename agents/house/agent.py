@@ -279,11 +279,10 @@ class HouseAgent(OneSlotBatch):
                 f"extension of the paper's method, with its own name): pass --agent {config.name}"
             )
         run = train(config, out, progress=progress, fresh=fresh, command=command)
-        k = run.counters
         return {
             "out": str(out),
-            "finished": k["finished"],
-            "env_steps": k["env_steps"],
+            "finished": run.counters.finished,
+            "env_steps": run.counters.env_steps,
             "interrupted": run.interrupted,
-            "wall_s": k["wall_s"],
+            "wall_s": run.counters.wall_s,
         }

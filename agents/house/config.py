@@ -8,8 +8,7 @@ from dataclasses import dataclass
 
 from objsearch.configs import JsonConfig, require_at_least
 from objsearch.errors import UserError
-
-METHODS = ("a3c", "dqn", "hdqn", "hrl_grg")
+from objsearch_agents.methods import METHODS
 
 
 @dataclass(frozen=True)
@@ -148,13 +147,15 @@ class HouseAgentConfig(JsonConfig):
 
     @property
     def hierarchical(self) -> bool:
-        return self.method in ("hdqn", "hrl_grg")
+        """Whether the method chooses sub-goals for a low level (h-DQN, HRL-GRG)."""
+        from objsearch_agents.methods import method_of
+
+        return method_of(self.method).hierarchical
 
     @property
     def name(self) -> str:
         """The agent name this config trains (``hrl_grg_no_relation`` for an ablation,
         ``hrl_grg_explorer``/``hdqn_explorer`` with an ``explorer``: our extension, not the paper's method)."""
-        name = self.method
-        if self.method == "hrl_grg":
-            name += "".join(f"_no_{n}" for n in ("relation", "termination", "high_level") if not getattr(self, n))
-        return name + ("_explorer" if self.explorer else "")
+        from objsearch_agents.methods import method_of
+
+        return method_of(self.method).agent_name(self) + ("_explorer" if self.explorer else "")

@@ -2,21 +2,17 @@
 
 Training (N parallel episodes on tables of every pose) and evaluation (N = 1, on tables
 of the 4 frames the agent was given) run this same code, so what is trained is what is
-evaluated. Observations are rows of an ``ObservationTables`` and ``hist`` (N, 4) pose ids.
+evaluated. Observations are rows of an ``ObservationTables`` and ``hist`` (N, 4) pose ids;
+nodes and network inputs are ``house.world``'s.
 
-Nodes (sub-goals, GRG): object categories ``0..NUM_OBJECTS-1`` (category id minus
-``FIRST_OBJECT_ID``) and ``RANDOM`` = NUM_OBJECTS, the back-up sub-goal.
-
-* ``a3c``: actions sampled from the actor-critic on (target mask, depth).
-* ``dqn``: epsilon-greedy on ``CategoryQ`` (every mask, depth, target one-hot).
-* ``hdqn`` / ``hrl_grg``: envs without a sub-goal pick one among the candidates (object
-  categories visible in the last 4 frames, not already reached at this pose unless it is
-  the target, plus ``RANDOM``): h-DQN by its 62 Q-values (uniformly when exploring),
-  HRL-GRG by scoring each candidate's mask times its plan value C(sg -> g) (exploring:
-  softmax over the plan values). The low level (the actor-critic) acts on the sub-goal's
-  mask, or on depth alone for ``RANDOM``. An option ends when its sub-goal is reached
-  (``REACH_RULE``, judged from the observation), after ``option_steps``, when the episode
-  ends, or (HRL-GRG) when a later node of the sub-goal's plan to the target is in view.
+What differs by method is its strategy (``objsearch_agents.methods``: ``a3c``, ``dqn``,
+``hdqn``, ``hrl_grg``); this module holds what they share. Hierarchical methods: envs
+without a sub-goal pick one among the candidates (object categories visible in the last 4
+frames, not already reached at this pose unless it is the target, plus ``RANDOM``) as the
+method chooses; the low level (the actor-critic) acts on the sub-goal's mask, or on depth
+alone for ``RANDOM``. An option ends when its sub-goal is reached (``REACH_RULE``, judged
+from the observation), after ``option_steps``, when the episode ends, or when the method
+ends it (HRL-GRG's plan termination); ended options are counted into the GRG, if any.
 """
 
 from __future__ import annotations
@@ -25,70 +21,23 @@ import numpy as np
 import torch
 
 from objsearch.house.categories import FIRST_OBJECT_ID
-from objsearch_agents.grg import GoalsRelationalGraph
 from objsearch_agents.house.config import HouseAgentConfig
 from objsearch_agents.house.episodes import object_node
-from objsearch_agents.house.nets import NUM_ACTIONS, ActorCritic, CandidateQ, CategoryQ
-from objsearch_agents.house.tables import (
-    DEPTH_SCALE,
-    NUM_CATEGORIES,
-    NUM_OBJECTS,
-    REACH_RULE,
-    VISIBLE_PIXELS,
-    ObservationTables,
+from objsearch_agents.house.nets import ActorCritic
+from objsearch_agents.house.tables import NUM_OBJECTS, VISIBLE_PIXELS, ObservationTables
+from objsearch_agents.house.world import (
+    HOUSE,
+    NUM_NODES,
+    RANDOM,
+    as_tensor,
+    candidates,
+    low_input,
+    node_category,
+    sample_actions,
 )
+from objsearch_agents.methods import method_of
 from objsearch_agents.nets import seeded_init
 from objsearch_agents.rows import rows_of
-
-RANDOM = NUM_OBJECTS
-NUM_NODES = NUM_OBJECTS + 1
-
-
-def node_category(nodes: np.ndarray) -> np.ndarray:
-    """Category id of each node (-1 for ``RANDOM``: an all-zero mask)."""
-    nodes = np.asarray(nodes)
-    return np.where(nodes < RANDOM, nodes + FIRST_OBJECT_ID, -1)
-
-
-def _t(x: np.ndarray) -> torch.Tensor:
-    return torch.from_numpy(np.ascontiguousarray(x, dtype=np.float32))
-
-
-def depth_input(tables: ObservationTables, hist: np.ndarray) -> np.ndarray:
-    return tables.depth[hist] / np.float32(DEPTH_SCALE)
-
-
-def low_input(tables: ObservationTables, hist: np.ndarray, categories: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """(mask (N, 4, 10, 10), depth (N, 4, 10, 10)): the actor-critic's input."""
-    return tables.masks(hist, categories), depth_input(tables, hist)
-
-
-def category_input(tables: ObservationTables, hist: np.ndarray, targets: np.ndarray) -> tuple[torch.Tensor, ...]:
-    """``CategoryQ``'s input: the categories in view and their masks, depth, the target's one-hot."""
-    onehot = np.eye(NUM_CATEGORIES, dtype=np.float32)[targets]
-    cats, masks = tables.present_masks(hist)
-    return torch.from_numpy(cats), _t(masks), _t(depth_input(tables, hist)), _t(onehot)
-
-
-def candidates(tables: ObservationTables, hist: np.ndarray, targets: np.ndarray) -> np.ndarray:
-    """bool (N, NUM_NODES): object categories visible in the 4 frames, less those already
-    reached at the current pose (except the target), plus ``RANDOM``."""
-    vis = tables.visible(hist)[:, FIRST_OBJECT_ID:]
-    reached = tables.near[hist[:, -1], FIRST_OBJECT_ID:] >= REACH_RULE.min_pixels
-    reached[np.arange(len(targets)), object_node(targets)] = False
-    return np.concatenate([vis & ~reached, np.ones((len(hist), 1), bool)], axis=1)
-
-
-def candidate_inputs(
-    tables: ObservationTables, hist: np.ndarray, env_ix: np.ndarray, node_ix: np.ndarray, weights: np.ndarray
-) -> tuple[torch.Tensor, torch.Tensor]:
-    """``CandidateQ``'s input for (env, node) pairs: the node's mask times its weight
-    (``RANDOM``: ones times its weight), and depth."""
-    cats = node_category(node_ix)
-    mask = tables.masks(hist[env_ix], cats)
-    mask[cats < 0] = 1.0
-    mask *= weights[env_ix, node_ix][:, None, None, None].astype(np.float32)
-    return _t(mask), _t(depth_input(tables, hist[env_ix]))
 
 
 class HousePolicy:
@@ -96,20 +45,14 @@ class HousePolicy:
 
     def __init__(self, config: HouseAgentConfig):
         self.config = c = config
+        self.method = m = method_of(c.method)
+        self.world = HOUSE
         self.perception_key: str | None = None
         """Loaded from a policy trained on predicted observations: the key of the perception network it learned from."""
-        self.ac = seeded_init(ActorCritic, c.seed) if c.method != "dqn" else None
-        self.explore = seeded_init(ActorCritic, c.seed + 2) if c.hierarchical and c.explorer else None
-        self.q = None
-        if c.method == "dqn":
-            self.q = seeded_init(CategoryQ, c.seed + 1, NUM_CATEGORIES, NUM_ACTIONS)
-        elif c.method == "hdqn":
-            self.q = seeded_init(CategoryQ, c.seed + 1, NUM_CATEGORIES, NUM_NODES)
-        elif c.method == "hrl_grg" and c.high_level:
-            self.q = seeded_init(CandidateQ, c.seed + 1)
-        self.grg = None
-        if c.method == "hrl_grg":
-            self.grg = GoalsRelationalGraph(NUM_NODES, c.option_steps, c.grg_gamma, observable=NUM_OBJECTS)
+        self.ac = seeded_init(ActorCritic, c.seed) if m.actor_critic else None
+        self.explore = seeded_init(ActorCritic, c.seed + 2) if m.hierarchical and c.explorer else None
+        self.q = m.q_network(c, HOUSE)
+        self.grg = m.graph(c, HOUSE)
         self.refresh_plans()
         self.start(0)
 
@@ -121,9 +64,6 @@ class HousePolicy:
         plans = self.grg.plans(np.arange(NUM_OBJECTS))
         self.plan_values = plans.values  # (target node, node)
         self.plan_successors = plans.successors()  # (target node, node, node)
-
-    def relation_weights(self, values: np.ndarray) -> np.ndarray:
-        return values if self.config.relation else np.ones_like(values)
 
     # -- episode state ----------------------------------------------------------------------
     def start(self, num_envs: int) -> None:
@@ -169,34 +109,14 @@ class HousePolicy:
         rng = rows_of(rng, need)
         explore = rng.random(len(need)) < epsilon[need]
         noise = rng.random(cand.shape)
-        if self.config.method == "hdqn":
-            q = self.q(*category_input(tables, h, targets)).numpy()
-            greedy = np.where(cand, q, -np.inf).argmax(axis=1)
-            choice = np.where(explore, np.where(cand, noise, -1.0).argmax(axis=1), greedy)
-        else:
-            values = self.values[need]
-            if self.q is not None:
-                greedy = self.candidate_argmax(self.q, tables, h, cand, values)
-            else:  # "-high-level": the candidate with the best plan value
-                greedy = np.where(cand, values, -1.0).argmax(axis=1)
-            gumbel = -np.log(-np.log(np.clip(noise, 1e-12, 1 - 1e-12)))  # softmax(plan values) by Gumbel-max
-            choice = np.where(explore, np.where(cand, values + gumbel, -np.inf).argmax(axis=1), greedy)
+        choice = self.method.choose_subgoals(self, (tables, h), targets, cand, explore, noise, need)
         self.subgoal[need] = choice
         self.option_steps[need] = 0
         self.first_seen[need] = 0
 
-    def candidate_argmax(self, net, tables, hist, cand, values) -> np.ndarray:
-        """argmax over each row's candidates of ``CandidateQ``, one forward pass for all."""
-        env_ix, node_ix = np.nonzero(cand)
-        q = np.full(cand.shape, -np.inf, np.float32)
-        q[env_ix, node_ix] = net(
-            *candidate_inputs(tables, hist, env_ix, node_ix, self.relation_weights(values))
-        ).numpy()
-        return q.argmax(axis=1)
-
     def acting_category(self) -> np.ndarray:
         """The category the actor-critic is pointed at: the target (A3C) or the sub-goal."""
-        return self.target if self.config.method == "a3c" else node_category(self.subgoal)
+        return self.method.acting_category(self)
 
     @torch.no_grad()
     def actions(
@@ -204,27 +124,28 @@ class HousePolicy:
     ) -> tuple[np.ndarray, tuple | None]:
         """Primitive actions (DQN epsilon-greedy; the actor-critic's sampled from its policy)
         and the actor-critic's inputs they were chosen from (None for DQN)."""
-        n = len(hist)
-        if self.config.method == "dqn":
-            q = self.q(*category_input(tables, hist, self.target)).numpy()
-            explore = rng.random(n) < epsilon
-            return np.where(explore, rng.integers(NUM_ACTIONS, size=n), q.argmax(axis=1)), None
+        return self.method.actions(self, (tables, hist), epsilon, rng)
+
+    @torch.no_grad()
+    def actor_critic_actions(self, tables: ObservationTables, hist: np.ndarray, rng) -> tuple[np.ndarray, tuple]:
+        """Actions sampled from the actor-critic pointed at ``acting_category``; the back-up
+        node's options run the explorer instead, if there is one."""
         inputs = low_input(tables, hist, self.acting_category())
-        logits, _ = self.ac(*map(_t, inputs))
+        logits, _ = self.ac(*map(as_tensor, inputs))
         if self.explore is not None:  # the back-up node's options: the explorer's policy
             rows = np.flatnonzero(self.subgoal == RANDOM)
             if len(rows):
                 explore_in = [x[rows] for x in inputs]
                 if self.config.explorer_target:  # the explorer searches for the target: its mask, the same depth
                     explore_in[0] = tables.masks(hist[rows], self.target[rows])
-                logits[rows] = self.explore(*map(_t, explore_in))[0]
+                logits[rows] = self.explore(*map(as_tensor, explore_in))[0]
         return sample_actions(logits, rng), inputs
 
     def advance(self, tables: ObservationTables, hist: np.ndarray, episode_over: np.ndarray, count: bool) -> np.ndarray:
         """Update the options after an env step (``hist``: the histories it led to). Ends
         options, counts them into the GRG if ``count``; returns bool (N,): options ended.
         ``self.reached`` is then bool (N,): options whose (non-target) sub-goal was reached."""
-        if not self.config.hierarchical:
+        if not self.method.hierarchical:
             self.reached = np.zeros(len(hist), bool)
             return self.reached
         active = self.subgoal >= 0
@@ -238,20 +159,11 @@ class HousePolicy:
         real = active & (sg < RANDOM) & (cats != self.target)
         reached = self.reached = real & tables.reached(now, cats)
         ended = active & (reached | (self.option_steps >= self.config.option_steps) | episode_over)
-        if self.grg is not None and self.config.termination:
-            vis4 = np.concatenate([tables.visible(hist)[:, FIRST_OBJECT_ID:], np.zeros((len(hist), 1), bool)], axis=1)
-            later = self.successors[np.arange(len(sg)), sg]
-            ended |= active & (vis4 & later).any(axis=1)
+        ended_by_method = self.method.ends_options(self, (tables, hist), sg)
+        if ended_by_method is not None:
+            ended |= active & ended_by_method
         if count and self.grg is not None and ended.any():
             ix = np.flatnonzero(ended)
             self.grg.record_options(self.subgoal[ix], self.first_seen[ix])
         self.subgoal[ended] = -1
         return ended
-
-
-def sample_actions(logits: torch.Tensor, rng) -> np.ndarray:
-    """One action per row from softmax(logits), drawn with ``rng`` (inverse CDF)."""
-    p = torch.softmax(logits, dim=1).double().numpy()
-    cdf = np.cumsum(p, axis=1)
-    u = rng.random(len(p))[:, None] * cdf[:, -1:]
-    return np.minimum((cdf < u).sum(axis=1), p.shape[1] - 1)

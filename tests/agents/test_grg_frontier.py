@@ -15,7 +15,7 @@ from objsearch.sim.camera import AGENT_CAMERA
 from objsearch_agents.frontier import RADIUS, FrontierAgent, project
 from objsearch_agents.grg import GoalsRelationalGraph
 from objsearch_agents.grg_frontier import GRGFrontierAgent, GRGSlotState, grg_file, relation_table
-from objsearch_agents.house.policy import NUM_NODES
+from objsearch_agents.house.world import NUM_NODES
 
 BED, TOILET, PILLOW, NIGHTSTAND = (CATEGORY_IDS[n] for n in ("bed", "toilet", "pillow", "nightstand"))
 

@@ -20,9 +20,10 @@ from objsearch_agents.house.checkpoint import save_policy
 from objsearch_agents.house.config import HouseAgentConfig
 from objsearch_agents.house.episodes import EpisodeBatch, TrainingHouses
 from objsearch_agents.house.nets import CategoryQ
-from objsearch_agents.house.policy import NUM_NODES, HousePolicy, category_input
+from objsearch_agents.house.policy import HousePolicy
 from objsearch_agents.house.tables import NUM_CATEGORIES, ObservationTables, house_tables
-from objsearch_agents.house.train import HouseTrainRun
+from objsearch_agents.house.train_run import HouseTrainRun
+from objsearch_agents.house.world import NUM_NODES, category_input
 
 SMALL = HouseRef(seed=3)  # ~1700 poses
 TARGETS = ["bed", "sofa", "toilet", "fridge", "tv", "bathtub", "wardrobe", "nightstand"]
@@ -182,7 +183,7 @@ def test_plan_termination_ends_an_option_when_a_later_plan_node_is_seen():
 
 
 def test_the_explorer_acts_for_the_back_up_node_only():
-    from objsearch_agents.house.policy import RANDOM
+    from objsearch_agents.house.world import RANDOM
 
     tables = synthetic_tables([{CATEGORY_IDS["bed"]: 30}])
     policy = HousePolicy(replace(HouseAgentConfig(), method="hrl_grg", explorer="a3c/policy.pt"))
@@ -200,7 +201,7 @@ def test_the_explorer_acts_for_the_back_up_node_only():
 
 
 def test_explorer_target_points_the_explorer_at_the_target():
-    from objsearch_agents.house.policy import RANDOM
+    from objsearch_agents.house.world import RANDOM
 
     bed, lamp = CATEGORY_IDS["bed"], CATEGORY_IDS["floor_lamp"]
     tables = synthetic_tables([{bed: 30, lamp: 30}])
@@ -384,7 +385,7 @@ def test_resume_is_exact(houses, tmp_path, method, settings):
 
     resumed = run_for(6_000, tmp_path / "half", load_checkpoint_file(tmp_path / "half" / STATE_FILE))
     untimed = lambda rows: [{k: v for k, v in r.items() if k != "wall_s"} for r in rows]
-    assert whole.counters["env_steps"] == resumed.counters["env_steps"] and untimed(whole.rows) == untimed(resumed.rows)
+    assert whole.counters.env_steps == resumed.counters.env_steps and untimed(whole.rows) == untimed(resumed.rows)
     for a, b in ((whole.policy.ac, resumed.policy.ac), (whole.policy.q, resumed.policy.q)):
         if a is not None:
             assert all(torch.equal(x, y) for x, y in zip(a.state_dict().values(), b.state_dict().values()))
