@@ -3,9 +3,9 @@ ablations are switches of the config: ``relation``, ``termination``, ``high_leve
 
 A method is a small strategy object (``base.Method``): which networks it has, how its high
 level chooses a sub-goal, when it ends an option besides the shared rules, and its
-Q-learning loss. The policies and the training loop run any method through it and never
-ask which one it is. The houses use these strategies; the grid world's policy still has
-its own (issue 31: one strategy per method for both worlds is the next step).
+Q-learning loss. Both worlds' policies and training loops run any method through it, each
+through its world adapter (``gridworld_world.GridWorldAdapter``, ``house.world.HouseWorld``),
+and never ask which method it is (``a3c`` runs in the houses only).
 """
 
 from __future__ import annotations
