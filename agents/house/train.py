@@ -106,10 +106,12 @@ def train(
                 pretrain_steps=0,
                 pretrained="",
                 explorer="",
+                explorer_target=False,
+                train_low=False,
                 relation=True,
                 termination=True,
                 high_level=True,
-            )
+            )  # the approach policy is an A3C of its own: none of the hierarchy's switches
             pre = _run_phase(pre_config, out / "pretrain", houses, "approach", progress, fresh, None)
             if pre.interrupted:
                 return pre

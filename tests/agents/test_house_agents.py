@@ -350,6 +350,30 @@ def test_train_low_trains_the_low_level_on_its_sub_goals(houses, tmp_path):
     assert mine > max(untrained, rand) + 0.15, (mine, untrained, rand)
 
 
+def test_the_approach_pretraining_ignores_the_hierarchys_switches(houses, tmp_path):
+    """Training a hierarchical method without ``pretrained=`` first pretrains its low level as an
+    A3C of its own: switches of the hierarchy (here ``train_low``; ``explorer_target`` alike) do
+    not reach it (they once made it refuse to start)."""
+    from objsearch_agents.house.train import train
+
+    torch.set_num_threads(1)
+    config = replace(
+        HouseAgentConfig(),
+        method="hrl_grg",
+        train_low=True,
+        num_envs=4,
+        steps=64,
+        pretrain_steps=64,
+        learning_starts=16,
+        checkpoint_every=10**9,
+        log_every=10**9,
+    )
+    run = train(config, tmp_path, houses, progress=False)
+    assert (
+        not run.interrupted and (tmp_path / "pretrain" / "policy.pt").is_file() and (tmp_path / "policy.pt").is_file()
+    )
+
+
 @pytest.mark.parametrize(
     "method, settings", [("a3c", {}), ("dqn", {}), ("hrl_grg", {}), ("hrl_grg", {"train_low": True})]
 )
