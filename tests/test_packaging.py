@@ -12,6 +12,7 @@ import zipfile
 from importlib.metadata import distribution, entry_points
 from pathlib import Path
 
+import numpy as np
 import pytest
 import tomllib
 
@@ -154,7 +155,7 @@ out = {
 for name in ("dqn", "hdqn", "hrl_grg", "hrl_grg_no_relation", "hrl_grg_no_termination", "hrl_grg_no_high_level"):
     out["checkpoints"][name] = make_agent(name).loaded_from
 for suite in SUITE_NAMES:
-    for name in ("a3c", "dqn", "hdqn", "hrl_grg", "hdqn_explorer", "hrl_grg_explorer"):
+    for name in ("a3c", "dqn", "hdqn", "hrl_grg", "hdqn_explorer", "hrl_grg_explorer", "scene_priors"):
         try:
             out["checkpoints"][f"{suite}/{name}"] = make_agent(name, suite=suite).loaded_from
         except Exception as err:
@@ -184,7 +185,9 @@ def test_an_installed_copy_finds_the_data_it_needs(installed):
     assert found["gridworld_episodes"] == 100
     assert all(found["house_suites"].values()) and found["perception"] and found["template"] == 1
     shipped = {
-        f"{p.parent.parent.name}/{p.parent.name}" for p in (ROOT / "agents" / "checkpoints").glob("house-*/*/policy.pt")
+        f"{p.parent.parent.name}/{p.parent.name}"
+        for p in (ROOT / "agents" / "checkpoints").glob("*/*/policy.pt")
+        if p.parent.parent.name != "gridworld"
     }
     shipped |= {p.parent.name for p in (ROOT / "agents" / "checkpoints" / "gridworld").glob("*/policy.pt")}
     for key, loaded in found["checkpoints"].items():
@@ -290,10 +293,17 @@ def untrained_checkpoint(cls, suite: str, out: Path) -> str:
     """An untrained policy of ``cls``'s house method for ``suite``, saved as training saves one."""
     from dataclasses import replace
 
+    from objsearch_agents import scene_priors
     from objsearch_agents.house.checkpoint import save_policy
     from objsearch_agents.house.policy import HousePolicy
 
     out.mkdir(parents=True, exist_ok=True)
+    if issubclass(cls, scene_priors.ScenePriorsAgent):  # its own network and checkpoint
+        predictor = scene_priors.feature_network()
+        features, scores = scene_priors.frame_features(predictor.model, np.zeros((1, 64, 64, 3), np.uint8))
+        net = scene_priors.ScenePriorsNet(scene_priors.prior_graph(), features.shape[1], scores.shape[1])
+        scene_priors.save_policy(net, replace(cls.config, suite=suite), predictor.key, out)
+        return str(out)
     save_policy(HousePolicy(replace(cls.house.config, suite=suite)), out)
     return str(out)
 
