@@ -107,7 +107,7 @@ def _writing(root: str | Path):
     """Hold the leaderboard ``root``'s lock: one writer at a time checks, stores and renders,
     so that no entry is lost and the pages list every stored one."""
     from objsearch.leaderboard.render import SUBMISSIONS
-    from objsearch.sim.cache import locked
+    from objsearch.sim.cache_folder import locked
 
     with locked(Path(root, SUBMISSIONS)):  # the lock file: <root>/.submissions.lock, removed after
         yield

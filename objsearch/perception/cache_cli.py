@@ -76,7 +76,8 @@ def _root(args, must_exist: bool = False) -> Path:
 def run_list(args: argparse.Namespace) -> int:
     """``objsearch cache list``: print every cache and temp folder with its size and state; returns 0."""
     from objsearch.fileio import abandoned_temp_folders
-    from objsearch.sim.cache import cache_folders, folder_bytes, format_size
+    from objsearch.sim.cache import cache_folders
+    from objsearch.sim.cache_folder import folder_bytes, format_size
 
     root = _root(args)
     folders = cache_folders(root)
@@ -129,7 +130,8 @@ def run_clear(args: argparse.Namespace) -> int:
     import shutil
 
     from objsearch.fileio import abandoned_temp_folders
-    from objsearch.sim.cache import cache_folders, folder_bytes, format_size, locked
+    from objsearch.sim.cache import cache_folders
+    from objsearch.sim.cache_folder import folder_bytes, format_size, locked
 
     root = _root(args)
     folders = cache_folders(root, digests=not (args.all or args.house))

@@ -11,7 +11,8 @@ import numpy as np
 import pytest
 
 from objsearch.cli import main
-from objsearch.sim.cache import HouseCache, check_folder, depth_to_mm, quantize_depth
+from objsearch.sim.cache import HouseCache, depth_to_mm, quantize_depth
+from objsearch.sim.cache_folder import check_folder
 from objsearch.sim.camera import RenderSettings
 from objsearch.sim.renderer import HouseRenderer
 
