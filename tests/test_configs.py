@@ -176,6 +176,10 @@ def test_with_overrides_refuses_bad_values_and_unknown_fields(overrides, message
 
 
 def _agent_config_class(path: Path):
+    if "scene_priors" in path.parts:  # a method with a config of its own
+        from objsearch_agents.scene_priors import ScenePriorsConfig
+
+        return ScenePriorsConfig
     return GridAgentConfig if "gridworld" in path.parts else HouseAgentConfig
 
 
