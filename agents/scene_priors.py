@@ -57,7 +57,7 @@ from objsearch.sim.camera import AGENT_CAMERA, AGENT_CAMERA_NAME, check_camera
 from objsearch_agents.a2c import ActorCriticLearner
 from objsearch_agents.house.agent import HouseAgent
 from objsearch_agents.house.checkpoint import CONFIG_FILE, LOG_FILE, POLICY_FILE, STATE_FILE
-from objsearch_agents.house.nets import NUM_ACTIONS
+from objsearch_agents.house.nets import NUM_ACTIONS, glorot
 from objsearch_agents.house.policy import sample_actions
 from objsearch_agents.house.tables import HISTORY, NUM_OBJECTS
 from objsearch_agents.nets import seeded_init
@@ -218,15 +218,6 @@ HIDDEN = 512
 GCN_HIDDEN = 1024
 
 
-def _glorot(module: nn.Module) -> nn.Module:
-    for m in module.modules():
-        if isinstance(m, nn.Linear):
-            nn.init.xavier_uniform_(m.weight)
-            if m.bias is not None:
-                nn.init.zeros_(m.bias)
-    return module
-
-
 class ScenePriorsNet(nn.Module):
     """(features (N, 4, F), target node (N,), scores (N, C)) -> (logits (N, 6), value (N,)).
 
@@ -259,7 +250,7 @@ class ScenePriorsNet(nn.Module):
         self.joint = nn.Linear(3 * HIDDEN, HIDDEN)
         self.policy = nn.Linear(HIDDEN, NUM_ACTIONS)
         self.value = nn.Linear(HIDDEN, 1)
-        _glorot(self)
+        glorot(self)
 
     def graph_embedding(self, scores: torch.Tensor) -> torch.Tensor:
         """The GCN over the prior graph: (N, C) scores -> (N, 512)."""

@@ -29,11 +29,13 @@ BRANCH = 20
 NUM_ACTIONS = 6
 
 
-def _glorot(module: nn.Module) -> nn.Module:
+def glorot(module: nn.Module) -> nn.Module:
+    """Glorot-uniform weights and zero biases for every ``nn.Linear`` of ``module``."""
     for m in module.modules():
         if isinstance(m, nn.Linear):
             nn.init.xavier_uniform_(m.weight)
-            nn.init.zeros_(m.bias)
+            if m.bias is not None:
+                nn.init.zeros_(m.bias)
     return module
 
 
@@ -61,7 +63,7 @@ class ActorCritic(nn.Module):
         self.body = TwoStream()
         self.policy = nn.Sequential(nn.Linear(HIDDEN, BRANCH), nn.ReLU(), nn.Linear(BRANCH, NUM_ACTIONS))
         self.value = nn.Sequential(nn.Linear(HIDDEN, BRANCH), nn.ReLU(), nn.Linear(BRANCH, 1))
-        _glorot(self)
+        glorot(self)
 
     def forward(self, mask: torch.Tensor, depth: torch.Tensor) -> tuple[torch.Tensor, torch.Tensor]:
         h = self.body(mask, depth)
@@ -75,7 +77,7 @@ class CandidateQ(nn.Module):
         super().__init__()
         self.body = TwoStream()
         self.out = nn.Linear(HIDDEN, 1)
-        _glorot(self)
+        glorot(self)
 
     def forward(self, mask: torch.Tensor, depth: torch.Tensor) -> torch.Tensor:
         return self.out(self.body(mask, depth))[:, 0]
@@ -92,7 +94,7 @@ class CategoryQ(nn.Module):
         self.pixel = nn.Linear(num_categories, 1)  # the per-pixel C -> 1 map
         self.body = TwoStream(extra=num_categories)
         self.out = nn.Linear(HIDDEN, outputs)
-        _glorot(self)
+        glorot(self)
 
     def forward(
         self, categories: torch.Tensor, masks: torch.Tensor, depth: torch.Tensor, target: torch.Tensor

@@ -1,7 +1,7 @@
 """The ``rooms`` suite: the paper's AI2-THOR experiment (its Table 4) in single functional rooms.
 
-The authors' protocol (``shared/reference/hrl_grg_notes.md``, "Robotic object search (AI2-THOR
-part)"), translated to our rooms (``objsearch.house.rooms``, ``HouseRef(seed, room=TYPE)``):
+The authors' protocol (their AI2-THOR code, summarised in ``docs/rooms.md``), translated to our
+rooms (``objsearch.house.rooms``, ``HouseRef(seed, room=TYPE)``):
 
 * **Rooms.** 30 of each type (``ROOM_TYPES``): 20 training rooms (seeds ``TRAIN_SEEDS``, generated
   as split ``train``), 5 validation and 5 test rooms (``VAL_SEEDS``, ``TEST_SEEDS``, generated as

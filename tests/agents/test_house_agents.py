@@ -7,6 +7,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 import torch
+from episodes_for_tests import trivial_success
 
 from objsearch import torchfile
 from objsearch.errors import UserError
@@ -235,16 +236,7 @@ def test_explorer_target_points_the_explorer_at_the_target():
 
 def approach_success(houses, act, episodes=256, max_steps=30, seed=5, pool="approach") -> float:
     """Success within ``max_steps`` from the nearest starts of ``pool`` (a trivial task)."""
-    rng = np.random.default_rng(seed)
-    batch = EpisodeBatch(houses, episodes, max_steps)
-    pairs, starts = houses.sample(pool, np.zeros(episodes, np.int64), 1000, rng)
-    batch.start(np.arange(episodes), pairs, starts)
-    alive, won = np.ones(episodes, bool), np.zeros(episodes, bool)
-    for _ in range(max_steps):
-        success, truncated = batch.step(act(batch, rng))
-        won |= success & alive
-        alive &= ~(success | truncated)
-    return float(won.mean())
+    return trivial_success(houses, act, episodes, max_steps, seed, pool)
 
 
 def policy_act(houses, policy, epsilon=0.0):
