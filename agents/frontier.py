@@ -174,19 +174,20 @@ class SlotState:
         on_floor = valid & (semantic == FLOOR)
         flat = on_floor.sum() >= 50 and np.median(np.abs(height[on_floor])) < cfg.flat_floor
         block_range, soft_range = (np.inf, np.inf) if flat else (cfg.block_range, cfg.obstacle_range)
-        for grid, points in (
-            (self.blocked, obstacle & (rng < block_range)),
-            (self.soft, obstacle & (rng < soft_range)),
-        ):
-            ox, oy = x[points], y[points]
-            near = []
-            for di in (-1, 0, 1):
-                for dj in (-1, 0, 1):
-                    ci, cj = np.rint(ox).astype(int) + di, np.rint(oy).astype(int) + dj
-                    close = (ci - ox) ** 2 + (cj - oy) ** 2 < r2
-                    near.append(ci[close] * SIZE + cj[close])
-            # a cell blocks when enough points of the frame lie near it: stray points of predicted depth do not
-            counts = np.bincount(np.concatenate(near), minlength=SIZE * SIZE).reshape(SIZE, SIZE)
+        # the cells near each point that blocks or costs, found once for both grids
+        points = obstacle & (rng < max(block_range, soft_range))
+        ox, oy, r = x[points], y[points], rng[points]
+        ri, rj = np.rint(ox).astype(int), np.rint(oy).astype(int)
+        cells, whose = [], []
+        for di in (-1, 0, 1):
+            for dj in (-1, 0, 1):
+                close = (ri + di - ox) ** 2 + (rj + dj - oy) ** 2 < r2
+                cells.append((ri[close] + di) * SIZE + rj[close] + dj)
+                whose.append(r[close])
+        cells, whose = np.concatenate(cells), np.concatenate(whose)
+        # a cell blocks when enough points of the frame lie near it: stray points of predicted depth do not
+        for grid, limit in ((self.blocked, block_range), (self.soft, soft_range)):
+            counts = np.bincount(cells[whose < limit], minlength=SIZE * SIZE).reshape(SIZE, SIZE)
             grid |= counts >= cfg.min_points
         solid = valid & (height > cfg.obstacle_low) & (height < CEILING)
         np.maximum.at(self.top, (np.rint(x[solid]).astype(int), np.rint(y[solid]).astype(int)), height[solid])
@@ -208,7 +209,7 @@ class SlotState:
         hits = valid & (semantic == self.target)
         if hits.sum() >= cfg.min_target_pixels:
             vox = np.floor(np.stack([x[hits] * (CELL / VOXEL), y[hits] * (CELL / VOXEL), height[hits] / VOXEL], 1))
-            self.voxels = np.unique(np.concatenate([self.voxels, vox.astype(np.int32)]), axis=0)
+            self.voxels = unique_voxels(np.concatenate([self.voxels, vox.astype(np.int32)]))
 
     # -- decisions ------------------------------------------------------------------------
     def sees_goal(self, semantic: np.ndarray, depth: np.ndarray) -> bool:
@@ -349,9 +350,14 @@ def view_scores(cells: np.ndarray, voxels: np.ndarray, top: np.ndarray, camera: 
     own = np.zeros(top.shape, bool)
     own[tuple(np.rint(v[:, :2] / CELL).astype(int).T)] = True
     t = np.linspace(0.1, 0.9, 8)[None, None, :]
-    si = np.rint((centre[:, None, None, :] + t[..., None] * rel[:, :, None, :]) / CELL).astype(int)  # (C, V, T, 2)
+    # the cells a ray crosses depend on the voxel's column only: trace each column once
+    columns, column_of = np.unique(voxels[:, :2], axis=0, return_inverse=True)
+    across = (columns + 0.5) * VOXEL - centre[:, None, :]  # (C, U, 2): rel of each column
+    si = np.rint((centre[:, None, None, :] + t[..., None] * across[:, :, None, :]) / CELL).astype(int)  # (C, U, T, 2)
+    flat = si[..., 0] * top.shape[1] + si[..., 1]
+    wall, mine = top.ravel()[flat][:, column_of.ravel()], own.ravel()[flat][:, column_of.ravel()]  # (C, V, T)
     ray = camera["camera_height"] + t * up[..., None]  # (1, V, T)
-    hidden = (top[si[..., 0], si[..., 1]] > ray + 0.05) & ~own[si[..., 0], si[..., 1]]
+    hidden = (wall > ray + 0.05) & ~mine
     sight = ~hidden.any(-1)  # (C, V)
     out = np.zeros((len(cells), 4))
     for k, (di, dj) in enumerate(STEPS):
@@ -439,6 +445,17 @@ def project(depth: np.ndarray, pose: np.ndarray, camera: dict) -> dict:
         "range": z * np.sqrt(1 + u**2)[None, None, :],
         "valid": z < camera["zfar"] * 0.999,
     }
+
+
+def unique_voxels(voxels: np.ndarray) -> np.ndarray:
+    """``np.unique(voxels, axis=0)`` for int32 (V, 3) voxels, through one int64 key per voxel
+    (the same sorted rows, several times faster)."""
+    shifted = voxels.astype(np.int64) + (1 << 20)
+    if len(voxels) and (shifted.min() < 0 or shifted.max() >= 1 << 21):
+        return np.unique(voxels, axis=0)
+    keys = np.unique((shifted[:, 0] << 42) | (shifted[:, 1] << 21) | shifted[:, 2])
+    mask = (1 << 21) - 1
+    return (np.stack([keys >> 42, (keys >> 21) & mask, keys & mask], 1) - (1 << 20)).astype(np.int32)
 
 
 def column_angles(camera: dict) -> np.ndarray:

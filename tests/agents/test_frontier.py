@@ -101,3 +101,47 @@ def test_frontier_on_the_grid_world_is_refused_in_one_line(tmp_path):
     )
     assert out.returncode == 2 and "Traceback" not in out.stderr
     assert len(out.stderr.strip().splitlines()) == 1 and "frontier" in out.stderr and "house" in out.stderr, out.stderr
+
+
+def test_voxel_memory_keeps_sorted_unique_rows():
+    from objsearch_agents.frontier import unique_voxels
+
+    rng = np.random.default_rng(0)
+    for _ in range(50):
+        voxels = rng.integers(-40, 600, (int(rng.integers(1, 300)), 3)).astype(np.int32)
+        voxels = np.concatenate([voxels, voxels[: len(voxels) // 2]])  # repeats, as frames overlap
+        got = unique_voxels(voxels)
+        assert got.dtype == np.int32 and np.array_equal(got, np.unique(voxels, axis=0))
+
+
+def test_view_scores_count_the_voxels_in_view_and_in_sight():
+    """Against the textbook form: each voxel is traced on its own (view_scores traces each
+    column once), hidden when a cell on the way, other than the target's own, is higher than the ray."""
+    from objsearch_agents.frontier import CELL, STEPS, VOXEL, view_scores
+
+    camera = {"cx": 32, "fx": 32.0, "cy": 32, "fy": 32.0, "camera_height": 1.0}
+    rng = np.random.default_rng(1)
+    for _ in range(10):
+        top = (rng.random((241, 241)) * 1.3).astype(np.float32)
+        base = rng.integers(60, 150, 2)
+        i, j, k = np.mgrid[0:6, 0:4, 0:8]  # an object: several voxels a column
+        voxels = np.stack([i.ravel() + base[0] * 2.5, j.ravel() + base[1] * 2.5, k.ravel() + 3], 1).astype(np.int32)
+        voxels = voxels[rng.random(len(voxels)) < 0.7]
+        cells = np.argwhere(np.ones((12, 12), bool)) + base - 6
+        target_cells = {tuple(c) for c in np.rint((voxels[:, :2] + 0.5) * VOXEL / CELL).astype(int)}
+        want = np.zeros((len(cells), 4))
+        for c, cell in enumerate(cells):
+            for vox in voxels:
+                v = (vox + 0.5) * VOXEL
+                rel, up = v[:2] - cell * CELL, v[2] - camera["camera_height"]
+                t = np.linspace(0.1, 0.9, 8)
+                on_way = np.rint((cell * CELL + t[:, None] * rel) / CELL).astype(int)
+                own = np.array([tuple(c) in target_cells for c in on_way])
+                if np.any((top[on_way[:, 0], on_way[:, 1]] > camera["camera_height"] + t * up + 0.05) & ~own):
+                    continue
+                for h, (di, dj) in enumerate(STEPS):
+                    fwd, left = rel[0] * di + rel[1] * dj, -rel[0] * dj + rel[1] * di
+                    if fwd > 0.1 and abs(left) <= fwd and abs(up) <= fwd:
+                        want[c, h] += 1.0 / max(fwd, 0.2) ** 2
+        assert np.allclose(view_scores(cells, voxels, top, camera), want)
+        assert (want > 0).any() and (want == 0).any()
