@@ -35,25 +35,23 @@ uninterrupted run.
 
 from __future__ import annotations
 
-import time
 from dataclasses import replace
 from pathlib import Path
 
 import numpy as np
 import torch
-from tqdm import tqdm
 
 from objsearch import torchfile
 from objsearch.fileio import atomic_write, write_csv
 from objsearch.gridworld.batched import HALF, BatchedGridWorld, GridTables
 from objsearch.gridworld.maps import GridMap
 from objsearch.gridworld.tasks import SEEN_GOALS
-from objsearch.interrupt import stop_on_interrupt
 from objsearch_agents.dqn_learner import Learner, flat_loss
 from objsearch_agents.gridworld_checkpoint import CONFIG_FILE, LOG_FILE, STATE_FILE, load_policy_file, save_policy
 from objsearch_agents.gridworld_config import GridAgentConfig
 from objsearch_agents.gridworld_policy import GridPolicy, goal_input, goals_under_agent
 from objsearch_agents.replay import ReplayBuffer
+from objsearch_agents.training_loop import TrainingLoop
 
 LOG_FIELDS = (
     "episodes",
@@ -98,7 +96,7 @@ class StartSampler:
         return self.order[maps, goals, pick]
 
 
-class TrainRun:
+class TrainRun(TrainingLoop):
     """One training run (one phase): its state, its loop, its files."""
 
     def __init__(self, config: GridAgentConfig, out: Path, maps: list[GridMap], goals=SEEN_GOALS):
@@ -309,39 +307,27 @@ class TrainRun:
         self.write_log()
         torchfile.save(self.out / STATE_FILE, self.state_dict())
 
-    # -- the loop -------------------------------------------------------------------------------
-    def run(self, progress: bool = True) -> bool:
-        """Train until ``config.episodes`` episodes have finished, checkpointing as it goes.
-        Returns False if interrupted (Ctrl-C or SIGTERM: the current step finishes, then a checkpoint
-        is written)."""
-        c, k = self.config, self.counters
-        with stop_on_interrupt() as stop:
-            bar = tqdm(
-                total=c.episodes,
-                initial=min(k["finished"], c.episodes),
-                unit="ep",
-                desc=f"train {c.method}",
-                disable=not progress or None,
-                smoothing=0.05,
-            )
-            try:
-                t0, wall0 = time.perf_counter(), k["wall_s"]
-                while k["finished"] < c.episodes and not stop.is_set():
-                    before = k["finished"]
-                    self.step()
-                    k["wall_s"] = wall0 + time.perf_counter() - t0
-                    bar.update(min(k["finished"], c.episodes) - min(before, c.episodes))
-                    if k["finished"] // c.log_every > before // c.log_every:
-                        self.log_row()
-                        self.write_log()
-                        r = self.rows[-1]
-                        bar.set_postfix(sr=r["success_rate"], eps=r["epsilon"], loss=r["loss_low"])
-                    if k["finished"] // c.checkpoint_every > before // c.checkpoint_every:
-                        self.save()
-                self.save()
-            finally:
-                bar.close()
-            return not stop.is_set()
+    # -- the loop (training_loop.TrainingLoop.run) ----------------------------------------------
+    unit = "ep"
+
+    def done(self) -> int:
+        return self.counters["finished"]
+
+    def goal(self) -> int:
+        return self.config.episodes
+
+    def describe(self) -> str:
+        return f"train {self.config.method}"
+
+    def postfix(self) -> dict:
+        r = self.rows[-1]
+        return {"sr": r["success_rate"], "eps": r["epsilon"], "loss": r["loss_low"]}
+
+    def wall_seconds(self) -> float:
+        return self.counters["wall_s"]
+
+    def set_wall_seconds(self, seconds: float) -> None:
+        self.counters["wall_s"] = seconds
 
 
 def _run_phase(

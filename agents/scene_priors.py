@@ -38,7 +38,6 @@ from __future__ import annotations
 
 import os
 import sys
-import time
 from dataclasses import dataclass, replace
 from functools import lru_cache
 from pathlib import Path
@@ -62,6 +61,7 @@ from objsearch_agents.house.policy import sample_actions
 from objsearch_agents.house.tables import HISTORY, NUM_OBJECTS
 from objsearch_agents.nets import seeded_init
 from objsearch_agents.rows import RowRandom
+from objsearch_agents.training_loop import TrainingLoop
 
 NAME = "scene_priors"
 POLICY_KIND = "objsearch-scene-priors-policy"
@@ -379,7 +379,7 @@ def suite_max_steps(suite: str) -> int:
 LOG_FIELDS = ("env_steps", "episodes", "updates", "lr", "success_rate", "mean_steps", "loss", "wall_s")
 
 
-class ScenePriorsRun:
+class ScenePriorsRun(TrainingLoop):
     """One training run: N lockstep episodes on the tables, A2C updates, its files."""
 
     def __init__(
@@ -504,43 +504,30 @@ class ScenePriorsRun:
     def save(self) -> None:
         self.out.mkdir(parents=True, exist_ok=True)
         save_policy(self.net, self.config, self.perception_key, self.out)
-        write_csv(self.out / LOG_FILE, LOG_FIELDS, self.rows)
+        self.write_log()
         torchfile.save(self.out / STATE_FILE, self.state_dict())
 
-    def run(self, progress: bool = True) -> bool:
-        """Train until ``config.steps``; False if interrupted (a checkpoint is written either way)."""
-        from tqdm import tqdm
+    # -- the loop (training_loop.TrainingLoop.run) ----------------------------------------------
+    def done(self) -> int:
+        return self.counters["env_steps"]
 
-        from objsearch.interrupt import stop_on_interrupt
+    def goal(self) -> int:
+        return self.config.steps
 
-        c, k = self.config, self.counters
-        with stop_on_interrupt() as stop:
-            bar = tqdm(
-                total=c.steps,
-                initial=min(k["env_steps"], c.steps),
-                unit="step",
-                unit_scale=True,
-                desc=f"train {NAME}",
-                disable=not progress or None,
-                smoothing=0.05,
-            )
-            try:
-                t0, wall0 = time.perf_counter(), k["wall_s"]
-                while k["env_steps"] < c.steps and not stop.is_set():
-                    before = k["env_steps"]
-                    self.step()
-                    k["wall_s"] = wall0 + time.perf_counter() - t0
-                    bar.update(min(k["env_steps"], c.steps) - min(before, c.steps))
-                    if k["env_steps"] // c.log_every > before // c.log_every:
-                        self.log_row()
-                        write_csv(self.out / LOG_FILE, LOG_FIELDS, self.rows)
-                        bar.set_postfix(sr=self.rows[-1]["success_rate"], ep=k["finished"])
-                    if k["env_steps"] // c.checkpoint_every > before // c.checkpoint_every:
-                        self.save()
-                self.save()
-            finally:
-                bar.close()
-            return not stop.is_set()
+    def describe(self) -> str:
+        return f"train {NAME}"
+
+    def write_log(self) -> None:
+        write_csv(self.out / LOG_FILE, LOG_FIELDS, self.rows)
+
+    def postfix(self) -> dict:
+        return {"sr": self.rows[-1]["success_rate"], "ep": self.counters["finished"]}
+
+    def wall_seconds(self) -> float:
+        return self.counters["wall_s"]
+
+    def set_wall_seconds(self, seconds: float) -> None:
+        self.counters["wall_s"] = seconds
 
 
 def train(

@@ -7,16 +7,13 @@ the counters and ``log.csv``.
 
 from __future__ import annotations
 
-import time
 from pathlib import Path
 
 import numpy as np
 import torch
-from tqdm import tqdm
 
 from objsearch import torchfile
 from objsearch.fileio import write_csv
-from objsearch.interrupt import stop_on_interrupt
 from objsearch_agents.a2c import ActorCriticLearner
 from objsearch_agents.dqn_learner import Learner
 from objsearch_agents.house.checkpoint import LOG_FILE, STATE_FILE, save_policy
@@ -27,6 +24,7 @@ from objsearch_agents.house.tables import HISTORY
 from objsearch_agents.house.train_log import LOG_FIELDS, Counters, Window, log_row
 from objsearch_agents.house.world import RANDOM, as_tensor, low_input, node_category
 from objsearch_agents.replay import ReplayBuffer
+from objsearch_agents.training_loop import TrainingLoop
 
 REPLAY_FIELDS = {
     "hist": ((HISTORY,), np.int64),
@@ -39,7 +37,7 @@ REPLAY_FIELDS = {
 """A Q-network's transitions, stored as pose ids (the observation is rebuilt from the tables)."""
 
 
-class HouseTrainRun:
+class HouseTrainRun(TrainingLoop):
     """One training phase: its state, its loop, its files."""
 
     def __init__(self, config: HouseAgentConfig, out: Path, houses: TrainingHouses, pool: str = "search"):
@@ -237,39 +235,27 @@ class HouseTrainRun:
     def save(self) -> None:
         self.out.mkdir(parents=True, exist_ok=True)
         save_policy(self.policy, self.out, self.houses.perception_key)
-        write_csv(self.out / LOG_FILE, LOG_FIELDS, self.rows)
+        self.write_log()
         torchfile.save(self.out / STATE_FILE, self.state_dict())
 
-    # -- the loop ----------------------------------------------------------------------------------
-    def run(self, progress: bool = True) -> bool:
-        """Train until ``config.steps`` env steps, checkpointing as it goes. Returns False if
-        interrupted (Ctrl-C or SIGTERM: the current step finishes, then a checkpoint is written)."""
-        c, k = self.config, self.counters
-        with stop_on_interrupt() as stop:
-            desc = f"train {c.name}" + (" (pretrain)" if self.pool == "approach" else "")
-            bar = tqdm(
-                total=c.steps,
-                initial=min(k.env_steps, c.steps),
-                unit="step",
-                unit_scale=True,
-                desc=desc,
-                disable=not progress or None,
-                smoothing=0.05,
-            )
-            try:
-                t0, wall0 = time.perf_counter(), k.wall_s
-                while k.env_steps < c.steps and not stop.is_set():
-                    before = k.env_steps
-                    self.step()
-                    k.wall_s = wall0 + time.perf_counter() - t0
-                    bar.update(min(k.env_steps, c.steps) - min(before, c.steps))
-                    if k.env_steps // c.log_every > before // c.log_every:
-                        self.log_row()
-                        write_csv(self.out / LOG_FILE, LOG_FIELDS, self.rows)
-                        bar.set_postfix(sr=self.rows[-1]["success_rate"], ep=k.finished)
-                    if k.env_steps // c.checkpoint_every > before // c.checkpoint_every:
-                        self.save()
-                self.save()
-            finally:
-                bar.close()
-            return not stop.is_set()
+    # -- the loop (training_loop.TrainingLoop.run) ----------------------------------------------
+    def done(self) -> int:
+        return self.counters.env_steps
+
+    def goal(self) -> int:
+        return self.config.steps
+
+    def describe(self) -> str:
+        return f"train {self.config.name}" + (" (pretrain)" if self.pool == "approach" else "")
+
+    def write_log(self) -> None:
+        write_csv(self.out / LOG_FILE, LOG_FIELDS, self.rows)
+
+    def postfix(self) -> dict:
+        return {"sr": self.rows[-1]["success_rate"], "ep": self.counters.finished}
+
+    def wall_seconds(self) -> float:
+        return self.counters.wall_s
+
+    def set_wall_seconds(self, seconds: float) -> None:
+        self.counters.wall_s = seconds
