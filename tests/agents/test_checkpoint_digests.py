@@ -133,3 +133,15 @@ def test_results_name_the_weights_and_verify_refuses_other_weights(tmp_path):
     results["config"]["weights_sha256"] = "0" * 64
     results["partial"] = True  # one split and seed: a partial submission
     assert any("used weights 000000000000" in p for p in verify_submission(results, k=2))
+
+
+@pytest.mark.parametrize("folder", SHIPPED_FOLDERS, ids=lambda p: str(p.relative_to(p.parents[2])))
+def test_shipped_recipes_name_no_path_of_the_training_machine(folder):
+    """A shipped command.txt or config.json reruns from a fresh clone: paths in it are
+    relative to the repository, never the training machine's (/root/..., /home/...)."""
+    import re
+
+    for name in ("command.txt", "config.json"):
+        if (folder / name).exists():
+            text = (folder / name).read_text()
+            assert not re.search(r"(^|[\s\"'=])/(root|home|tmp|work|Users)/", text), f"{folder / name}: {text}"
