@@ -41,16 +41,17 @@ bench: $(STAMP)
 # Re-evaluate the shipped agents on every suite with the paper's seeds and store them on
 # the leaderboard (house suites render their observation caches first: minutes).
 LEADERBOARD_AGENTS ?= random oracle
-LEADERBOARD_SUITES ?= gridworld house-single house-multi house-gen house-gen-v2 house-single-v2 house-multi-v2 house-gen-v2-objectnav house-gen-v2-shuffled
-LEADERBOARD_GRID_AGENTS ?= dqn hdqn hrl_grg hrl_grg_no_relation hrl_grg_no_termination hrl_grg_no_high_level   # shipped checkpoints
-# the same checkpoints evaluated greedily (epsilon 0): entry=agent
-LEADERBOARD_GREEDY ?= dqn_greedy=objsearch_agents.dqn:DQNGreedyAgent hdqn_greedy=objsearch_agents.hdqn:HDQNGreedyAgent \
-	hrl_grg_greedy=objsearch_agents.hrl_grg:HRLGRGGreedyAgent
+LEADERBOARD_SUITES ?= gridworld house-single house-multi house-gen house-gen-v2 house-single-v2 house-multi-v2 house-gen-v2-objectnav house-gen-v2-shuffled rooms
+# shipped checkpoints; the *_greedy agents play the same checkpoints greedily (epsilon 0)
+LEADERBOARD_GRID_AGENTS ?= dqn hdqn hrl_grg hrl_grg_no_relation hrl_grg_no_termination hrl_grg_no_high_level \
+	dqn_greedy hdqn_greedy hrl_grg_greedy
 # house agents with shipped checkpoints: suite:agent, each evaluated on gt and on predicted observations
 # (predictions of house-gen's and house-gen-v2's 20 evaluation houses: 20-40 minutes of one core each the first time, a cache build)
 LEADERBOARD_HOUSE ?= house-single:a3c house-single:dqn house-single:hrl_grg house-single:hdqn_explorer house-single:hrl_grg_explorer \
 	house-multi:a3c house-multi:dqn house-multi:hdqn house-multi:hrl_grg house-multi:hrl_grg_explorer \
-	house-gen:a3c house-gen:dqn house-gen:hrl_grg_explorer house-gen-v2:a3c house-gen-v2:hrl_grg house-gen-v2:hrl_grg_explorer
+	house-gen:a3c house-gen:dqn house-gen:hrl_grg_explorer house-gen-v2:a3c house-gen-v2:hrl_grg house-gen-v2:hrl_grg_explorer \
+	house-gen-v2-shuffled:a3c house-gen-v2-shuffled:hrl_grg rooms:a3c rooms:hrl_grg \
+	house-gen-v2:grg_frontier house-gen-v2-shuffled:grg_frontier
 # house agents also trained on predicted observations (agents/checkpoints/SUITE/AGENT/predicted/, the paper's
 # setting), evaluated on predicted observations as entry AGENT_predicted_trained
 LEADERBOARD_HOUSE_TRAINED_PREDICTED ?= house-single:a3c house-single:hrl_grg_explorer
@@ -86,10 +87,6 @@ leaderboard: $(STAMP)
 	for agent in $(LEADERBOARD_GRID_AGENTS); do \
 	  $(BIN)/objsearch-eval --agent $$agent --suite gridworld --workers 2 --batch 64 --quiet --out build/gridworld-$$agent.json && \
 	  $(BIN)/objsearch leaderboard add build/gridworld-$$agent.json --replace || exit 1; \
-	done
-	for pair in $(LEADERBOARD_GREEDY); do name=$${pair%%=*}; \
-	  $(BIN)/objsearch-eval --agent $${pair#*=} --suite gridworld --workers 2 --batch 64 --quiet --out build/gridworld-$$name.json && \
-	  $(BIN)/objsearch leaderboard add build/gridworld-$$name.json --name $$name --replace || exit 1; \
 	done
 	$(BIN)/objsearch leaderboard verify --all --episodes $(LEADERBOARD_VERIFY_EPISODES)
 	@echo "make leaderboard: $$(( $$(date +%s) - $$(cat build/.leaderboard-start) )) s"
