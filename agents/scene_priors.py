@@ -36,8 +36,10 @@ curriculum, no pretraining. Their single worker becomes N episodes in lockstep (
 
 from __future__ import annotations
 
+import hashlib
 import os
 import sys
+from collections import OrderedDict
 from dataclasses import dataclass, replace
 from functools import lru_cache
 from pathlib import Path
@@ -128,6 +130,7 @@ def prior_graph(suite: str = GRAPH_SUITE) -> np.ndarray:
 
 # -- 2. the visual input: the perception network's features and class scores ----------------
 FEATURE_GRID = 2  # the encoder's 8x8 output average-pooled to 2x2
+FRAME_MEMO = 50_000  # frames whose features an agent remembers (about 100 MB): revisited poses cost nothing
 TABLE_VERSION = "scene-priors-features-v1"
 
 
@@ -629,6 +632,7 @@ class ScenePriorsAgent(HouseAgent):
                 f"shipped network is {self.predictor.key}; retrain it (objsearch train --agent {NAME} --suite {saved.suite})"
             )
         self.policy = ScenePriorsPolicy(saved, net.eval(), state["features"])
+        self._memo: OrderedDict[bytes, tuple[np.ndarray, np.ndarray]] = OrderedDict()  # see features()
         self.loaded_from = str(path)
         self.weights_sha256 = digests.of_files([path])
         self.trained_perception_key = None  # RGB only: the same input under gt and predicted observations
@@ -646,6 +650,21 @@ class ScenePriorsAgent(HouseAgent):
             self._rngs[i], self._history[i] = task.rng, None
             self._target[i] = int(task.goal) - FIRST_OBJECT_ID
 
+    def features(self, rgb: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """``frame_features`` of one frame (one at a time: a slot's numbers do not depend on the
+        batch it shares), remembered by the frame's digest for the last ``FRAME_MEMO`` frames:
+        episodes revisit poses, and a cached suite's frame of a pose is the same bytes each time."""
+        memo = self._memo
+        key = hashlib.blake2b(np.ascontiguousarray(rgb).tobytes(), digest_size=16).digest()
+        if key in memo:
+            memo.move_to_end(key)
+            return memo[key]
+        features, scores = frame_features(self.predictor.model, rgb[None])
+        memo[key] = features[0], scores[0]
+        if len(memo) > FRAME_MEMO:
+            memo.popitem(last=False)
+        return memo[key]
+
     @torch.no_grad()
     def act_batch(self, observations: dict) -> dict:
         busy = sorted(observations)
@@ -653,12 +672,8 @@ class ScenePriorsAgent(HouseAgent):
             obs = observations[i]
             if not isinstance(obs, dict) or "rgb" not in obs:
                 raise TypeError("scene_priors needs the house env's observation (rgb, ..., target)")
-            # one frame at a time: a slot's numbers do not depend on the batch it shares
-            features, scores = frame_features(self.predictor.model, np.asarray(obs["rgb"])[None])
-            self._history[i] = (
-                [features[0]] * HISTORY if self._history[i] is None else self._history[i][1:] + [features[0]]
-            )
-            self._scores[i] = scores[0]
+            features, self._scores[i] = self.features(np.asarray(obs["rgb"]))
+            self._history[i] = [features] * HISTORY if self._history[i] is None else self._history[i][1:] + [features]
         rows = [i if i in observations else busy[0] for i in range(self._slots)]
         logits, _ = self.policy.net(
             torch.from_numpy(np.stack([np.stack(self._history[i]) for i in rows])),

@@ -14,6 +14,7 @@ from objsearch.errors import UserError
 from objsearch.house.categories import FIRST_OBJECT_ID
 from objsearch.sim.env import HouseEnv
 from objsearch.sim.world import HouseRef, World
+from objsearch_agents import scene_priors
 from objsearch_agents.house.agent import CHECKPOINTS
 from objsearch_agents.house.episodes import TrainingHouses
 from objsearch_agents.house.policy import sample_actions
@@ -194,7 +195,7 @@ def test_resume_is_exact(room, cache_dir, tmp_path):
         train(replace(config, steps=192, lr=1e-3), tmp_path / "parts", **kwargs)
 
 
-def test_tables_are_keyed_and_the_agent_sees_what_training_saw(room, trained, cache_dir):
+def test_tables_are_keyed_and_the_agent_sees_what_training_saw(room, trained, cache_dir, monkeypatch):
     """The tables sit beside the observation cache, named by the perception network; the
     evaluated agent computes the same features from the env's RGB frame."""
     from objsearch.sim.cache import HouseCache
@@ -218,6 +219,18 @@ def test_tables_are_keyed_and_the_agent_sees_what_training_saw(room, trained, ca
 
     agent = ScenePriorsAgent("house-gen-v2", checkpoint=trained.out)
     assert agent.policy.config.name == "scene_priors" and agent.trained_perception_key is None
+    # a revisited frame is remembered, not recomputed; the oldest is forgotten past FRAME_MEMO
+    calls = []
+    monkeypatch.setattr(scene_priors, "frame_features", lambda m, rgb: calls.append(1) or frame_features(m, rgb))
+    monkeypatch.setattr(scene_priors, "FRAME_MEMO", 2)
+    for frame in (obs["rgb"], obs["rgb"].copy()):
+        got = agent.features(frame)
+        np.testing.assert_array_equal(got[0], features[0])
+        np.testing.assert_array_equal(got[1], scores[0])
+    assert len(calls) == 1
+    for frame in (np.zeros_like(obs["rgb"]), np.ones_like(obs["rgb"]), obs["rgb"]):  # the first was forgotten
+        agent.features(frame)
+    assert len(calls) == 4
     task = SimpleNamespace(goal=FIRST_OBJECT_ID + object_node(TARGET), rng=np.random.default_rng(0))
     agent.reset(task)
     for _ in range(5):
