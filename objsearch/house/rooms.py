@@ -5,14 +5,14 @@ The rooms of the paper's AI2-THOR experiment (30 rooms of each of four types), r
 ``house-gen-2``'s room rules and stages:
 
 * **Size.** The room's area is drawn from ``house-gen-2``'s range for its type
-  (``floorplan_v2.AREA_RANGES``: a kitchen 7-13 m^2, a living room 16-28, a bedroom 9-15, a
+  (``gen2.floorplan.AREA_RANGES``: a kitchen 7-13 m^2, a living room 16-28, a bedroom 9-15, a
   bathroom 3.5-7.5); the room is a rectangle whose long side is ``ASPECT`` times its short
-  one, the short one at least ``floorplan_v2.MIN_WIDTH`` of its type (a bathroom
+  one, the short one at least ``gen2.floorplan.MIN_WIDTH`` of its type (a bathroom
   ``BATHROOM_MIN_SIDE``, 1.8 m, as ``house-gen-2``'s narrowest), snapped to its 0.1 m grid.
 * **No doors.** A closed room, as AI2-THOR's are (their doors are shut): no entrance.
-* **Furnishing.** ``house-gen-2``'s stages after the doors (``generate_v2.spec_of_plan``:
+* **Furnishing.** ``house-gen-2``'s stages after the doors (``gen2.build.spec_of_plan``:
   materials, walls, the groups of its type, the fill, the top-up to 0.4 objects per m^2),
-  then more small objects (``furnish_v2.SMALL``: on receptacles and walls) up to
+  then more small objects (``gen2.furnish.SMALL``: on receptacles and walls) up to
   ``SMALL_DENSITY`` objects per m^2, as AI2-THOR's rooms are dense.
 * **Recorded.** ``generator_version`` is ``house-gen-2``, ``size_class`` is ``ROOM_SIZE_CLASS``
   (``room``), ``extra`` is ``{"room": TYPE}`` (``HouseSpec.single_room``) and the house id
@@ -22,7 +22,7 @@ The rooms of the paper's AI2-THOR experiment (30 rooms of each of four types), r
   independent of the houses of the same seed and of each other.
 * **Validation.** ``validate_house``'s compile, overlap, reachability and visibility checks,
   and ``check_rules``: one room of its type filling the footprint, no doors, and
-  ``validate_v2``'s ``area`` and ``fill`` rules (the others are about circulation between rooms).
+  ``gen2.rules``' ``area`` and ``fill`` rules (the others are about circulation between rooms).
 """
 
 from __future__ import annotations
@@ -48,7 +48,7 @@ ROOM_SIZE_CLASS = "room"
 ROOM_GENERATOR = "house-gen-2"
 STREAM = 3
 ASPECT = (1.0, 1.6)
-BATHROOM_MIN_SIDE = 1.8  # house-gen-2's narrowest bathroom; the other types: floorplan_v2.MIN_WIDTH
+BATHROOM_MIN_SIDE = 1.8  # house-gen-2's narrowest bathroom; the other types: gen2.floorplan.MIN_WIDTH
 #: Objects per m^2 the small objects top a room up to (``house-gen-2``: 0.4 in all).
 SMALL_DENSITY = 1.0
 RULES = ("room", "area", "fill")
