@@ -3,6 +3,8 @@
     MUJOCO_GL=egl python benchmarks/bench_render.py [--seed 0] [--poses 256] [--json]
     MUJOCO_GL=egl python benchmarks/bench_render.py --ablation      # what each trick buys
     MUJOCO_GL=egl python benchmarks/bench_render.py --samples docs/images/render_samples.png
+    MUJOCO_GL=egl python benchmarks/bench_render.py --frames cpu.npz        # on one machine
+    python benchmarks/bench_render.py --compare cpu.npz gpu.npz             # do two machines agree?
 
 A typical generated house (seed 0: medium, 5 rooms, 113 geoms), random poses on free
 space (0.05 m occupancy grid, random yaw). One "frame" is RGB + depth + semantic +
@@ -98,6 +100,35 @@ def measure_naive_fps(
         return len(poses) / _median_seconds(loop, repeats)
 
 
+def save_frames(model: mujoco.MjModel, spec: HouseSpec, path: str) -> None:
+    """Frames of 64 fixed poses (seed 7) at 64x64 and 128x128, for ``compare_frames``."""
+    poses = random_free_poses(spec, 64, np.random.default_rng(7))
+    arrays = {"poses": poses}
+    for size in (64, 128):
+        with HouseRenderer(model, RenderSettings(width=size, height=size)) as renderer:
+            frames = renderer.render(poses)
+        arrays.update({f"{key}_{size}": getattr(frames, key) for key in ("rgb", "depth", "semantic", "instance")})
+    np.savez_compressed(path, **arrays)
+
+
+def compare_frames(path_a: str, path_b: str) -> dict[str, float]:
+    """How far two ``--frames`` files (two machines, two backends) disagree, image by image:
+    the fraction of pixels that differ, and for RGB those off by more than 2 levels, for
+    depth the largest difference in metres."""
+    a, b = np.load(path_a), np.load(path_b)
+    if not np.array_equal(a["poses"], b["poses"]):
+        raise SystemExit(f"{path_a} and {path_b} hold frames of different poses: make both with --frames")
+    out = {}
+    for key in sorted(set(a.files) - {"poses"}):
+        x, y = a[key], b[key]
+        out[f"{key}_differ"] = float((x != y).mean())
+        if key.startswith("rgb"):
+            out[f"{key}_off_by_3_plus"] = float((np.abs(x.astype(int) - y.astype(int)) > 2).mean())
+        if key.startswith("depth"):
+            out[f"{key}_max_m"] = float(np.abs(x - y).max())
+    return out
+
+
 def ablation(model, poses, naive_poses, repeats) -> list[tuple[str, int, float]]:
     """The tricks one at a time: (label, size, fps)."""
     rows = []
@@ -177,13 +208,21 @@ def main() -> None:
     parser.add_argument("--json", action="store_true", help="print one JSON object")
     parser.add_argument("--ablation", action="store_true", help="measure the tricks one at a time")
     parser.add_argument("--samples", metavar="PNG", help="write sample frames (rgb | depth | semantic) and exit")
+    parser.add_argument("--frames", metavar="NPZ", help="write the frames of 64 fixed poses and exit")
+    parser.add_argument("--compare", nargs=2, metavar="NPZ", help="compare two --frames files and exit")
     args = parser.parse_args()
+    if args.compare:
+        print(json.dumps(compare_frames(*args.compare)))
+        return
 
     house = generate_house(args.seed, generator="house-gen-1")  # the house of the recorded figures
     rng = np.random.default_rng(args.seed)
     poses = random_free_poses(house.spec, args.poses, rng)
     if args.samples:
         write_samples(house.model, random_free_poses(house.spec, 3, np.random.default_rng(1)), args.samples)
+        return
+    if args.frames:
+        save_frames(house.model, house.spec, args.frames)
         return
     naive_poses = poses[: args.naive_poses]
     if args.ablation:
