@@ -38,9 +38,9 @@ class ActorCriticLearner:
     def update(self, inputs: tuple[torch.Tensor, ...], actions: np.ndarray, returns: np.ndarray) -> float:
         """One step on a batch: ``inputs`` flattened over (T, N), ``actions`` and ``returns`` (T*N,)."""
         logits, value = self.net(*inputs)
-        ret = torch.from_numpy(returns.astype(np.float32))
+        ret = torch.from_numpy(returns.astype(np.float32)).to(value.device)
         logp = torch.log_softmax(logits, dim=1)
-        taken = logp.gather(1, torch.from_numpy(actions.astype(np.int64))[:, None])[:, 0]
+        taken = logp.gather(1, torch.from_numpy(actions.astype(np.int64)).to(logp.device)[:, None])[:, 0]
         advantage = (ret - value).detach()
         entropy = -(logp.exp() * logp).sum(dim=1).mean()
         loss = 0.5 * (ret - value).pow(2).mean() - (taken * advantage).mean() - self.entropy * entropy

