@@ -50,7 +50,7 @@ LEADERBOARD_GRID_AGENTS ?= dqn hdqn hrl_grg hrl_grg_no_relation hrl_grg_no_termi
 LEADERBOARD_HOUSE ?= house-single:a3c house-single:dqn house-single:hrl_grg house-single:hdqn_explorer house-single:hrl_grg_explorer \
 	house-multi:a3c house-multi:dqn house-multi:hdqn house-multi:hrl_grg house-multi:hrl_grg_explorer \
 	house-gen:a3c house-gen:dqn house-gen:hrl_grg_explorer house-gen-v2:a3c house-gen-v2:hrl_grg house-gen-v2:hrl_grg_explorer \
-	house-gen-v2-shuffled:a3c house-gen-v2-shuffled:hrl_grg rooms:a3c rooms:hrl_grg \
+	house-gen-v2-shuffled:a3c house-gen-v2-shuffled:hrl_grg rooms:a3c rooms:hrl_grg rooms:scene_priors \
 	house-gen-v2:grg_frontier house-gen-v2-shuffled:grg_frontier
 # house agents also trained on predicted observations (agents/checkpoints/SUITE/AGENT/predicted/, the paper's
 # setting), evaluated on predicted observations as entry AGENT_predicted_trained
