@@ -32,7 +32,7 @@ from objsearch.leaderboard.paper import (
     paper_house3d,
     paper_rows,
 )
-from objsearch.leaderboard.table4 import render_table4, table4_rows
+from objsearch.leaderboard.table4 import ordering_cells, render_ordering, render_table4, table4_rows
 
 SUBMISSIONS = "submissions"
 
@@ -220,6 +220,8 @@ def render_paper_tables(submissions: list[tuple[str, dict]], relations: list[dic
                 row = [c for split in GRIDWORLD_SPLITS for c in cells(greedy.get(split), None)]
                 lines.append(f"| {PAPER_NAMES[name]} *greedy* | " + " | ".join(row) + " |")
     table4 = render_table4(table4_rows(submissions, lambda results: runs_label(training(results)[0])))
+    if table4:
+        table4 += render_ordering(ordering_cells(submissions))
     return (
         "\n".join(lines + _table3(submissions) + table4 + _beyond_the_paper(submissions) + _relations(relations)) + "\n"
     )

@@ -7,6 +7,7 @@ each stored ``rooms`` entry minus ``random``'s gt entry on the same episodes and
 ignores what it sees, so one row serves both observations), with the 95% bootstrap interval
 of the difference (``objsearch.eval.metrics.difference_ci``: the two sets resampled
 independently, which is wider than a paired interval).
+Below it, the paper's ordering itself: HRL-GRG minus Scene Priors, SR and SPL, per cell.
 """
 
 from __future__ import annotations
@@ -52,6 +53,49 @@ def table4_rows(submissions: list[tuple[str, dict]], runs_of) -> list[dict]:
                 row[split]["paper"] = None if paper is None or observation != "gt" else paper[i]
             rows.append(row)
     return rows
+
+
+def ordering_cells(submissions: list[tuple[str, dict]]) -> dict | None:
+    """The paper's ordering on ``rooms``, gt: per split, HRL-GRG's SR and SPL minus Scene
+    Priors' on the same episodes, each with its 95% interval, and the paper's difference;
+    None unless both entries are stored. (Random's share of the two improvements cancels.)"""
+    ours = {name: results for name, results in submissions if results["suite"] == ROOMS_SUITE}
+    if "hrl_grg" not in ours or "scene_priors" not in ours:
+        return None
+    cells = {}
+    for i, split in enumerate(TABLE4_SPLITS):
+        grg, priors = (
+            [r for r in ours[name]["episodes"] if r["split"] == split] for name in ("hrl_grg", "scene_priors")
+        )
+        if not grg or not priors:
+            return None
+        cells[split] = {
+            key: (measure(grg) - measure(priors), difference_ci(grg, priors, measure))
+            for key, measure in (("sr", success_rate), ("spl", spl))
+        }
+        cells[split]["paper"] = tuple(round(g - p, 2) for g, p in zip(_PAPER["hrl_grg"][i], _PAPER["scene_priors"][i]))
+    return cells
+
+
+def render_ordering(cells: dict | None) -> list[str]:
+    """The markdown of ``ordering_cells`` (nothing without them)."""
+    if cells is None:
+        return []
+    lines = [
+        "",
+        "The paper's ordering: HRL-GRG minus Scene Priors on the same episodes (gt), **ours** [95% interval]",
+        "(paper). Above zero in a cell means HRL-GRG's improvement over Random is the larger there.",
+        "",
+        "| | " + " | ".join(TABLE4_SPLITS) + " |",
+        "|---" * (1 + len(TABLE4_SPLITS)) + "|",
+    ]
+    for i, (key, label) in enumerate((("sr", "SR"), ("spl", "SPL"))):
+        texts = []
+        for split in TABLE4_SPLITS:
+            value, (lo, hi) = cells[split][key]
+            texts.append(f"**{value:+.2f}** [{lo:+.2f} to {hi:+.2f}] ({cells[split]['paper'][i]:+.2f})")
+        lines.append(f"| {label} | " + " | ".join(texts) + " |")
+    return lines
 
 
 def render_table4(rows: list[dict]) -> list[str]:

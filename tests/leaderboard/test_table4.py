@@ -2,7 +2,7 @@
 the paper's AI2-THOR figures."""
 
 from objsearch.leaderboard.render import render_paper_tables
-from objsearch.leaderboard.table4 import TABLE4_SPLITS, table4_rows
+from objsearch.leaderboard.table4 import TABLE4_SPLITS, ordering_cells, table4_rows
 
 
 def _entry(agent: str, success_every: int, steps: int) -> dict:
@@ -43,3 +43,17 @@ def test_no_table4_without_randoms_entry_and_predicted_rows_have_no_paper_figure
     rows = table4_rows([("random", _entry("random", 2, 50)), ("hrl_grg_predicted", grg)], lambda results: "1")
     assert [(r["method"], r["observation"]) for r in rows] == [("hrl_grg", "predicted")]
     assert all(rows[0][split]["paper"] is None for split in TABLE4_SPLITS)
+
+
+def test_the_papers_ordering_is_hrl_grg_minus_scene_priors_on_the_same_episodes():
+    random, grg, priors = _entry("random", 4, 50), _entry("hrl_grg", 1, 10), _entry("scene_priors", 2, 10)
+    assert ordering_cells([("random", random), ("hrl_grg", grg)]) is None  # no Scene Priors entry: no comparison
+    cells = ordering_cells([("random", random), ("hrl_grg", grg), ("scene_priors", priors)])
+    sr, (lo, hi) = cells["seen-env-seen-goals"]["sr"]
+    assert abs(sr - 0.5) < 1e-9 and lo <= 0.5 <= hi  # SR 1.0 against 0.5
+    assert abs(cells["seen-env-seen-goals"]["spl"][0] - 0.25) < 1e-9  # SPL 0.5 against 0.25
+    assert cells["seen-env-unseen-goals"]["paper"] == (0.25, 0.16)  # +0.33 / +0.23 minus +0.08 / +0.07
+    tables = render_paper_tables([("random", random), ("hrl_grg", grg), ("scene_priors", priors)])
+    assert "The paper's ordering: HRL-GRG minus Scene Priors" in tables
+    assert "| SR | **+0.50** [" in tables and "| SPL | **+0.25** [" in tables
+    assert "The paper's ordering" not in render_paper_tables([("hrl_grg", grg), ("scene_priors", priors)])
