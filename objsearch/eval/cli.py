@@ -74,6 +74,12 @@ def configure(parser: argparse.ArgumentParser) -> argparse.ArgumentParser:
     parser.add_argument(
         "--out", help="write the results JSON here; an interrupted run resumes from OUT.partial.jsonl when rerun"
     )
+    parser.add_argument(
+        "--retry-failed",
+        action="store_true",
+        help="with --out naming the results of a finished run of the same settings: play again only its "
+        "episodes that ended in an agent error (e.g. a step-time limit hit on a busy machine), keep the others",
+    )
     parser.add_argument("--maps", help="grid world: a directory of map_XXXX.npz to use instead of the test maps")
     parser.add_argument("--tasks", help="grid world: a JSONL task file over --maps; one split named after the file")
     parser.add_argument("--max-steps", type=positive_int, help="step limit per episode (default: the suite's)")
@@ -189,6 +195,7 @@ def run(args: argparse.Namespace) -> int:
         video_dir=args.video,
         batch=args.batch or DEFAULT_BATCH,
         video_episodes=args.video_episodes,
+        retry_failed=args.retry_failed,
     )
     failed = [r for r in results["episodes"] if "error" in r]
     if failed:  # first, so that a table of failures is never mistaken for a result

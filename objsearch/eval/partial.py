@@ -106,3 +106,37 @@ def _differences(stored: dict, now: dict, prefix: str = "") -> str:
         else:
             parts.append(f"{prefix}{key}: {there!r} there, {here!r} now")
     return "; ".join(parts)
+
+
+def keep_what_did_not_fail(out: str | Path, config: EvalConfig, plays: list[EvalConfig], paths: list[str]) -> int:
+    """``--retry-failed``: turn the results file at ``out`` into the partial-results files
+    ``paths`` (one per play, ``plays``) holding every record that did not fail, so that the
+    rerun plays only the episodes that ended in an agent error (a step-time limit hit on a
+    busy machine, a crash) and keeps the rest. ``config``: the configuration the results must
+    have been written with. Returns the number of episodes to replay; leaves partial files
+    that are already there alone (a retry that was interrupted resumes from them)."""
+    out = Path(out)
+    if any(Path(p).exists() for p in paths):
+        return -1
+    if not out.is_file():
+        raise UserError(f"--retry-failed: {out} is not a results file; it repairs the --out file of a finished run")
+    try:
+        results = json.loads(out.read_text())
+        stored, episodes = results["config"], results["episodes"]
+    except (OSError, ValueError, KeyError, TypeError) as err:
+        raise UserError(f"--retry-failed: {out} is not a results file written by objsearch-eval ({err})") from None
+    if stored != config.to_json():
+        raise UserError(
+            f"--retry-failed: {out} holds the results of another evaluation ({_differences(stored, config.to_json())}); "
+            "rerun with those settings, or drop --retry-failed to start afresh"
+        )
+    several = len(plays) > 1
+    for play, path in zip(plays, paths):
+        kept = [
+            {k: v for k, v in r.items() if k not in ("training_run", "spl")}
+            for r in episodes
+            if "error" not in r and (not several or r.get("training_run") == play.training_run)
+        ]
+        with atomic_write(path, elsewhere=ELSEWHERE) as f:
+            f.write("".join(json.dumps(x) + "\n" for x in [{"partial_results_of": play.to_json()}, *kept]))
+    return sum("error" in r for r in episodes)

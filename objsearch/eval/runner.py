@@ -26,7 +26,7 @@ from objsearch.cluster import EXECUTORS
 from objsearch.errors import UserError
 from objsearch.eval.config import EvalConfig, Unit
 from objsearch.eval.executors import run_local, run_ray
-from objsearch.eval.partial import PartialResults
+from objsearch.eval.partial import PartialResults, keep_what_did_not_fail
 from objsearch.eval.runs import agent_of, run_config, training_runs
 from objsearch.eval.suites import check_splits, make_suite
 from objsearch.progress import progress_bar
@@ -126,6 +126,7 @@ def evaluate(
     batch: int = 1,
     video_episodes: int = 2,
     agent=None,
+    retry_failed: bool = False,
 ) -> dict:
     """Evaluate ``config.agent`` on ``config.suite`` and return the results dict.
 
@@ -140,10 +141,14 @@ def evaluate(
     that cannot be written are refused before the first episode. ``agent``: an agent object
     to play (in this process, ``workers`` 1) instead of building ``config.agent``, which then
     only names it in the results; it is played as it is (no checkpoint or training runs).
+    ``retry_failed``: ``out`` is the results file of a finished run of the same configuration;
+    its episodes that ended in an agent error are played again, the others kept.
     """
     from objsearch.eval.results import build_results
     from objsearch.fileio import check_writable, write_json
 
+    if retry_failed and not out:
+        raise UserError("--retry-failed needs --out: the results file whose failed episodes to play again")
     if out:
         check_writable(out, "--out")
         check_writable(f"{out}.partial.jsonl", "--out")
@@ -172,6 +177,10 @@ def evaluate(
     partial_paths = [
         f"{out}.run{play.training_run}.partial.jsonl" if several else f"{out}.partial.jsonl" for play in plays
     ]
+    if retry_failed:
+        failed = keep_what_did_not_fail(out, config if several else plays[0], plays, partial_paths)
+        if failed >= 0:
+            print(f"--retry-failed: playing the {failed} failed episode(s) of {out} again", file=sys.stderr)
     records = []
     for i, play in enumerate(plays):
         partial = PartialResults(partial_paths[i], play) if out else None

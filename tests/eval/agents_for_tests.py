@@ -1,6 +1,7 @@
 """Misbehaving agents for the harness tests (an oracle that fails in chosen ways)."""
 
 import hashlib
+import os
 import time
 
 from objsearch_agents.oracle import OracleAgent
@@ -16,6 +17,21 @@ class RaisingAgent(OracleAgent):
     def act(self, observation):
         if self._fail:
             raise RuntimeError("boom")
+        return super().act(observation)
+
+
+class FlakyAgent(OracleAgent):
+    """Raises in act() as $FLAKY_AGENT_FAILS says: on even episodes ("even"), on every one ("all"),
+    or never (unset)."""
+
+    def reset(self, task):
+        super().reset(task)
+        mode = os.environ.get("FLAKY_AGENT_FAILS", "")
+        self._fail = mode == "all" or (mode == "even" and task.episode_id % 2 == 0)
+
+    def act(self, observation):
+        if self._fail:
+            raise RuntimeError("flaky")
         return super().act(observation)
 
 
