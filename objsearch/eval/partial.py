@@ -113,8 +113,8 @@ def keep_what_did_not_fail(out: str | Path, config: EvalConfig, plays: list[Eval
     ``paths`` (one per play, ``plays``) holding every record that did not fail, so that the
     rerun plays only the episodes that ended in an agent error (a step-time limit hit on a
     busy machine, a crash) and keeps the rest. ``config``: the configuration the results must
-    have been written with. Returns the number of episodes to replay; leaves partial files
-    that are already there alone (a retry that was interrupted resumes from them)."""
+    have been written with. Returns the number of episodes to replay, or -1 where partial
+    files are already there: those are left alone (a retry that was interrupted resumes from them)."""
     out = Path(out)
     if any(Path(p).exists() for p in paths):
         return -1
