@@ -28,7 +28,7 @@ class PartialResults:
 
     def __init__(self, path: str | Path, config: EvalConfig):
         self.path = Path(path)
-        header = {"partial_results_of": config.to_json()}
+        expected = config.to_json()
         self.records: list[dict] = []
         rewrite = True  # a new file, or lines to drop
         if self.path.exists():
@@ -44,9 +44,9 @@ class PartialResults:
                     f"{self.path} is not a partial-results file (its first line is not an evaluation's "
                     "settings); delete it or choose another --out"
                 )
-            if stored != header["partial_results_of"]:
+            if stored != expected:
                 raise UserError(
-                    f"{self.path} holds partial results of another evaluation ({_differences(stored, header['partial_results_of'])}); "
+                    f"{self.path} holds partial results of another evaluation ({_differences(stored, expected)}); "
                     "rerun with those settings to resume it, or delete it or choose another --out to start afresh"
                 )
             rewrite = not text.endswith("\n")  # appending to a cut line would spoil the next record
@@ -68,8 +68,7 @@ class PartialResults:
                     continue
                 self.records.append(record)
         if rewrite:  # a full disk here leaves the records that were there
-            with atomic_write(self.path, elsewhere=ELSEWHERE) as f:
-                f.write("".join(json.dumps(x) + "\n" for x in [header, *self.records]))
+            _write(self.path, config, self.records)
         with full_disk_as_error(self.path, ELSEWHERE):
             self._file = open(self.path, "a")
 
@@ -137,6 +136,11 @@ def keep_what_did_not_fail(out: str | Path, config: EvalConfig, plays: list[Eval
             for r in episodes
             if "error" not in r and (not several or r.get("training_run") == play.training_run)
         ]
-        with atomic_write(path, elsewhere=ELSEWHERE) as f:
-            f.write("".join(json.dumps(x) + "\n" for x in [{"partial_results_of": play.to_json()}, *kept]))
+        _write(path, play, kept)
     return sum("error" in r for r in episodes)
+
+
+def _write(path: str | Path, config: EvalConfig, records: list[dict]) -> None:
+    """Write a whole partial-results file: ``config``'s header line, then ``records``."""
+    with atomic_write(path, elsewhere=ELSEWHERE) as f:
+        f.write("".join(json.dumps(x) + "\n" for x in [{"partial_results_of": config.to_json()}, *records]))

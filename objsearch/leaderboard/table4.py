@@ -26,29 +26,51 @@ TABLE4_METHODS = ("a3c", "scene_priors", "hrl_grg", "frontier", "oracle")
 """Table 4's rows (the paper has Scene Priors and HRL-GRG), then rows the paper did not have."""
 
 
+def _rooms_entries(submissions: list[tuple[str, dict]]) -> dict[str, dict]:
+    """The stored entries of the ``rooms`` suite, by name."""
+    return {name: results for name, results in submissions if results["suite"] == ROOMS_SUITE}
+
+
+def _by_split(results: dict) -> dict[str, list[dict]]:
+    """An entry's episode records, by ``TABLE4_SPLITS`` split."""
+    return {split: [r for r in results["episodes"] if r["split"] == split] for split in TABLE4_SPLITS}
+
+
+def _difference(mine: list[dict], other: list[dict]) -> dict:
+    """SR and SPL of ``mine`` minus those of ``other``, each with its 95% interval."""
+    return {
+        key: (measure(mine) - measure(other), difference_ci(mine, other, measure))
+        for key, measure in (("sr", success_rate), ("spl", spl))
+    }
+
+
+def _header(*columns: str) -> list[str]:
+    """A markdown table's header: ``columns``, then one column per ``TABLE4_SPLITS`` split."""
+    names = [*columns, *TABLE4_SPLITS]
+    cells = [f" {name} " if name else " " for name in names]  # an empty name: "| |"
+    return ["|" + "|".join(cells) + "|", "|---" * len(names) + "|"]
+
+
 def table4_rows(submissions: list[tuple[str, dict]], runs_of) -> list[dict]:
     """For every ``TABLE4_METHODS`` entry stored on ``rooms`` (gt and ``_predicted``), per split:
     SR and SPL minus Random's, their intervals and the paper's figures; [] without Random's
     entry. ``runs_of(results)``: the label of an entry's training runs."""
-    ours = {name: results for name, results in submissions if results["suite"] == ROOMS_SUITE}
+    ours = _rooms_entries(submissions)
     if "random" not in ours:
         return []
-    base = {split: [r for r in ours["random"]["episodes"] if r["split"] == split] for split in TABLE4_SPLITS}
+    base = _by_split(ours["random"])
     rows = []
     for method in TABLE4_METHODS:
         for observation, entry in (("gt", method), ("predicted", method + PREDICTED_SUFFIX)):
             if entry not in ours:
                 continue
             row = {"method": method, "observation": observation, "runs": runs_of(ours[entry])}
+            mine = _by_split(ours[entry])
             for i, split in enumerate(TABLE4_SPLITS):
-                mine = [r for r in ours[entry]["episodes"] if r["split"] == split]
-                if not mine or not base[split]:
+                if not mine[split] or not base[split]:
                     row[split] = None
                     continue
-                row[split] = {
-                    key: (measure(mine) - measure(base[split]), difference_ci(mine, base[split], measure))
-                    for key, measure in (("sr", success_rate), ("spl", spl))
-                }
+                row[split] = _difference(mine[split], base[split])
                 paper = _PAPER.get(method)
                 row[split]["paper"] = None if paper is None or observation != "gt" else paper[i]
             rows.append(row)
@@ -59,20 +81,15 @@ def ordering_cells(submissions: list[tuple[str, dict]]) -> dict | None:
     """The paper's ordering on ``rooms``, gt: per split, HRL-GRG's SR and SPL minus Scene
     Priors' on the same episodes, each with its 95% interval, and the paper's difference;
     None unless both entries are stored. (Random's share of the two improvements cancels.)"""
-    ours = {name: results for name, results in submissions if results["suite"] == ROOMS_SUITE}
+    ours = _rooms_entries(submissions)
     if "hrl_grg" not in ours or "scene_priors" not in ours:
         return None
+    grg, priors = _by_split(ours["hrl_grg"]), _by_split(ours["scene_priors"])
     cells = {}
     for i, split in enumerate(TABLE4_SPLITS):
-        grg, priors = (
-            [r for r in ours[name]["episodes"] if r["split"] == split] for name in ("hrl_grg", "scene_priors")
-        )
-        if not grg or not priors:
+        if not grg[split] or not priors[split]:
             return None
-        cells[split] = {
-            key: (measure(grg) - measure(priors), difference_ci(grg, priors, measure))
-            for key, measure in (("sr", success_rate), ("spl", spl))
-        }
+        cells[split] = _difference(grg[split], priors[split])
         cells[split]["paper"] = tuple(round(g - p, 2) for g, p in zip(_PAPER["hrl_grg"][i], _PAPER["scene_priors"][i]))
     return cells
 
@@ -86,8 +103,7 @@ def render_ordering(cells: dict | None) -> list[str]:
         "The paper's ordering: HRL-GRG minus Scene Priors on the same episodes (gt), **ours** [95% interval]",
         "(paper). Above zero in a cell means HRL-GRG's improvement over Random is the larger there.",
         "",
-        "| | " + " | ".join(TABLE4_SPLITS) + " |",
-        "|---" * (1 + len(TABLE4_SPLITS)) + "|",
+        *_header(""),
     ]
     for i, (key, label) in enumerate((("sr", "SR"), ("spl", "SPL"))):
         texts = []
@@ -111,8 +127,7 @@ def render_table4(rows: list[dict]) -> list[str]:
         "and 200 in living rooms, no STOP; `docs/rooms.md`), seeds 1, 5, 13, 45, 99, minus `random` on the same",
         "episodes. The paper's: AI2-THOR's 120 rooms, its own Random on its own episode files, one seed.",
         "",
-        "| Method | observation | runs | " + " | ".join(TABLE4_SPLITS) + " |",
-        "|---" * (3 + len(TABLE4_SPLITS)) + "|",
+        *_header("Method", "observation", "runs"),
     ]
     for row in rows:
         cells = []
