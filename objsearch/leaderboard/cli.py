@@ -16,7 +16,7 @@ DEFAULT_DIR = "leaderboard"
 
 def add_parser(subparsers) -> None:
     """Add ``objsearch leaderboard`` (check, add, verify, render) to ``subparsers``."""
-    from objsearch.leaderboard.validate import VERIFY_EPISODES
+    from objsearch.leaderboard.validate import DETECT_FRACTION, DETECT_PROBABILITY
 
     parser = subparsers.add_parser(
         "leaderboard", help="validate, add, verify and render leaderboard submissions", description=__doc__
@@ -44,21 +44,48 @@ def add_parser(subparsers) -> None:
         "--create", action="store_true", help="start a new leaderboard if --dir has no submissions/ folder"
     )
     add.set_defaults(func=run_add)
-    verify = commands.add_parser("verify", help="replay a sample of stored entries' episodes; exit 2 unless identical")
+    verify = commands.add_parser(
+        "verify",
+        help="replay a random sample of stored entries' episodes; exit 2 unless identical",
+        description="Replay a sample of each entry's episodes, drawn with fresh OS randomness now (a submitter "
+        "cannot know which), and require identical records. The default sample catches a submission with "
+        f"{DETECT_FRACTION:.0%} of its records altered with probability at least {DETECT_PROBABILITY:.0%}; "
+        "the number replayed is recorded in the stored entry and shown on the pages.",
+    )
     verify.add_argument("entries", nargs="*", metavar="ENTRY", help="a stored entry: its path or SUITE/NAME")
     verify.add_argument("--all", action="store_true", help="verify every stored entry")
     verify.add_argument(
         "--episodes",
-        type=int,
-        default=VERIFY_EPISODES,
-        metavar="K",
-        help=f"episodes replayed per entry, chosen by a hash of its content (default: {VERIFY_EPISODES})",
+        type=_episodes,
+        default=None,
+        metavar="K|all",
+        help=f"episodes replayed per entry, drawn at random now (default: enough to catch {DETECT_FRACTION:.0%} "
+        f"altered records with probability {DETECT_PROBABILITY:.0%}: 90 for a large entry); all: every episode",
+    )
+    verify.add_argument(
+        "--trust",
+        action="store_true",
+        help="run an entry's agent although it is not a registered one (a .py file or module:Class): "
+        "replay imports and runs its code; read it first",
     )
     verify.set_defaults(func=run_verify)
     render = commands.add_parser(
         "render", help="regenerate the pages, and the results table of the README beside --dir, from the stored entries"
     )
     render.set_defaults(func=run_render)
+
+
+def _episodes(text: str) -> int | str:
+    """``--episodes``: an integer >= 1, or ``all``."""
+    if text == "all":
+        return text
+    try:
+        value = int(text)
+    except ValueError:
+        value = 0
+    if value < 1:
+        raise argparse.ArgumentTypeError(f"{text!r}: give a number of episodes >= 1, or all")
+    return value
 
 
 def _validated(path: str | Path, partial: bool = False, stored: bool = False) -> dict:
@@ -160,6 +187,7 @@ def run_add(args: argparse.Namespace) -> int:
     """
     from objsearch.fileio import check_writable
     from objsearch.leaderboard.render import SUBMISSIONS, render
+    from objsearch.leaderboard.validate import content_sha256
 
     root = Path(args.dir)
     if args.name is not None:
@@ -171,6 +199,8 @@ def run_add(args: argparse.Namespace) -> int:
     for folder in (root, Path(root, SUBMISSIONS)):  # the pages, the entries: before the slow validation
         check_writable(folder, "leaderboard folder", folder=True)
     results = _validated(args.file, args.partial)
+    if results.pop("verified", None) is not None:
+        print(f"note: dropped {args.file}'s own 'verified' record: only verify writes it", file=sys.stderr)
     name = args.name if args.name is not None else default_name(results["agent"], observation_of(results))
     check_entry_name(name, f"agent {results['agent']!r}")
     target = Path(root, SUBMISSIONS, results["suite"], f"{name}.json")
@@ -178,9 +208,13 @@ def run_add(args: argparse.Namespace) -> int:
     with _writing(root):
         if target.exists() and not args.replace:
             raise UserError(f"{target} exists; pass --replace to replace it or --name to add another entry")
+        digest = content_sha256(results)
         for path in _stored(root):  # the pages are rendered from every stored entry: refuse before writing
-            if path != target:
-                _validated(path, stored=True)
+            if path != target and content_sha256(_validated(path, stored=True)) == digest:
+                raise UserError(
+                    f"{args.file} holds the same results as the stored entry {path}: one result is one entry; "
+                    f"pass --replace --name {path.stem} to store it again under that name"
+                )
         written = render(root, add=(target, results))
     for path in written:
         if path != target:
@@ -206,31 +240,102 @@ def _entry_path(root: str | Path, entry: str) -> Path:
 
 
 def run_verify(args: argparse.Namespace) -> int:
-    """``objsearch leaderboard verify``: replay a sample of each entry's episodes; ``UserError`` unless identical."""
+    """``objsearch leaderboard verify``: replay a random sample of each entry's episodes;
+    ``UserError`` unless identical. The number replayed is recorded in each stored entry that
+    passed (``verified``), and the pages are rendered again, when the folder can be written."""
     from objsearch.cluster import one_math_thread
-    from objsearch.leaderboard.validate import load_submission, verify_submission
+    from objsearch.leaderboard.validate import (
+        DETECT_FRACTION,
+        DETECT_PROBABILITY,
+        load_submission,
+        miss_probability,
+        replay_count,
+        replay_units,
+        sample_size,
+        verify_submission,
+    )
 
     one_math_thread()  # a few episodes at a time: more torch threads only fight whatever else runs
 
-    if args.episodes < 1:
-        raise UserError(f"--episodes {args.episodes}: replay at least 1 episode per entry")
     if bool(args.all) == bool(args.entries):
         raise UserError("pass ENTRY (a stored entry's path or SUITE/NAME) or --all, not both or neither")
     paths = _stored(args.dir) if args.all else [_entry_path(args.dir, e) for e in args.entries]
     if not paths:
         raise UserError(f"no stored entries under {Path(args.dir)} to verify")
-    start = time.monotonic()
+    start, passed, failure = time.monotonic(), {}, None
     for path in paths:
         t = time.monotonic()
         results = load_submission(path)
-        problems = verify_submission(results, args.episodes)
+        total = len(replay_units(results)) if isinstance(results.get("episodes"), list) else 0
+        k = total if args.episodes == "all" else args.episodes
+        problems = verify_submission(results, k, trust=args.trust)
         if problems:
-            raise UserError(f"submission {path} fails verification: " + "; ".join(problems))
-        replayed = min(args.episodes, len(results["episodes"]))
-        print(f"verified: {path} ({replayed} replayed episodes identical, {time.monotonic() - t:.1f} s)")
+            failure = UserError(f"submission {path} fails verification: " + "; ".join(problems))
+            break
+        replayed = replay_count(results, k)
+        print(
+            f"verified: {path} ({replayed} of {total} episodes, drawn at random, replayed identical, "
+            f"{time.monotonic() - t:.1f} s)"
+        )
+        if replayed < sample_size(total):
+            print(
+                f"note: {replayed} episodes catch a submission with {DETECT_FRACTION:.0%} of its records altered "
+                f"with probability {1 - miss_probability(total, replayed):.2f} only; the default "
+                f"({sample_size(total)}) reaches {DETECT_PROBABILITY:.2f}",
+                file=sys.stderr,
+            )
+        passed[path] = (results, replayed, total)
+    _record_verified(args.dir, passed)
+    if failure is not None:
+        raise failure
     if len(paths) > 1:
         print(f"verified {len(paths)} entries in {time.monotonic() - start:.0f} s")
     return 0
+
+
+def _record_verified(root: str | Path, passed: dict[Path, tuple[dict, int, int]]) -> None:
+    """Store in each stored entry of ``passed`` ({path: (results, replayed, episodes)}) how many
+    of its episodes were replayed (``verified``; the most for its present content), and render
+    the pages again, all in one write under the lock. An entry changed since it was read, or a
+    path outside ``root``'s submissions, is left as it is; an unwritable folder only warns."""
+    from objsearch.fileio import check_writable
+    from objsearch.leaderboard.render import SUBMISSIONS, render
+    from objsearch.leaderboard.validate import content_sha256, load_submission, replayed_of
+
+    store = Path(root, SUBMISSIONS).resolve()
+    mine = {path: v for path, v in passed.items() if path.resolve().parent.parent == store}
+    if not mine:
+        return
+    try:
+        check_writable(root, "leaderboard folder", folder=True)
+        check_writable(store, "leaderboard folder", folder=True)
+    except UserError as err:
+        print(f"warning: the replay counts are not recorded: {err}", file=sys.stderr)
+        return
+    with _writing(root):
+        updates = {}
+        for path, (results, replayed, total) in mine.items():
+            digest = content_sha256(results)
+            try:
+                now = load_submission(path)
+            except UserError:
+                continue
+            if content_sha256(now) != digest:  # replaced meanwhile (add --replace): not what was replayed
+                continue
+            before = replayed_of(now)
+            if before is not None and before[0] >= replayed:
+                continue
+            updates[Path(root, SUBMISSIONS, path.parent.name, path.name)] = {
+                **now,
+                "verified": {"replayed": replayed, "episodes": total, "sha256": digest},
+            }
+        if updates:
+            written = render(root, store=updates)
+            for path in updates:
+                print(f"recorded {updates[path]['verified']['replayed']} replayed episodes in {path}", file=sys.stderr)
+            for path in written:
+                if path not in updates:
+                    print(f"wrote {path}", file=sys.stderr)
 
 
 def run_render(args: argparse.Namespace) -> int:

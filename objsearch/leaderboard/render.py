@@ -76,6 +76,22 @@ def steps_label(steps: int | None) -> str:
     return "–" if steps is None else f"{steps / 1e6:.0f}M" if steps >= 1e6 else f"{steps / 1e3:.0f}k"
 
 
+def replayed_label(results: dict) -> str:
+    """``90/1500``: episodes that ``objsearch leaderboard verify`` replayed identical, of the
+    entry's, as recorded for its present content; ``–`` when none were."""
+    from objsearch.leaderboard.validate import replayed_of
+
+    replayed = replayed_of(results)
+    return "–" if replayed is None else f"{replayed[0]}/{replayed[1]}"
+
+
+def nonstandard_settings(results: dict) -> list[str]:
+    """The suite settings of ``results`` that are not its suite's standard (``validate.nonstandard_settings``)."""
+    from objsearch.leaderboard.validate import nonstandard_settings as differing
+
+    return differing(results)
+
+
 def leaderboard_rows(submissions: list[tuple[str, dict]], partial: bool = False) -> dict[str, dict[str, list[dict]]]:
     """{suite: {split: [row, ...]}} of the full submissions, rows ranked by SPL, then SR (best
     first); with ``partial``, of the partial submissions instead, in name order (unranked)."""
@@ -84,12 +100,14 @@ def leaderboard_rows(submissions: list[tuple[str, dict]], partial: bool = False)
         if bool(results.get("partial")) != partial:
             continue
         runs, steps = training(results)
+        replayed = replayed_label(results)
+        settings = "; ".join(nonstandard_settings(results)) if partial else ""
         for split, s in results["splits"].items():
             tables.setdefault(results["suite"], {}).setdefault(split, []).append(
                 {
                     "name": name,
                     "agent": results["agent"],
-                    "observation": observation_label(results),
+                    "observation": observation_label(results) + (f"; {settings}" if settings else ""),
                     "sr": s["sr"],
                     "spl": s["spl"],
                     "sr_ci": s["sr_ci"],
@@ -100,6 +118,7 @@ def leaderboard_rows(submissions: list[tuple[str, dict]], partial: bool = False)
                     "seeds": len(results["seeds"]),
                     "runs": runs_label(runs),
                     "train_steps": steps_label(steps),
+                    "replayed": replayed,
                     "version": results["objsearch_version"],
                     "commit": (results.get("git_commit") or "")[:8],
                     "per_goal": {goal: g["sr"] for goal, g in s["per_goal"].items()},
@@ -129,14 +148,14 @@ def _markdown_row(rank, r: dict) -> str:
         f"| {rank} | {name} | {observation} | {_num(r['sr'])} | {_num(r['sr_ci'][0])}–{_num(r['sr_ci'][1])} | "
         f"{_num(r['spl'])} | {_num(r['spl_ci'][0])}–{_num(r['spl_ci'][1])} | "
         f"{_num(r['as'])} / {_num(r['ms'])} | {r['episodes']} | {r['seeds']} | {r['runs']} | {r['train_steps']} | "
-        f"{version} | {commit} |"
+        f"{version} | {commit} | {r['replayed']} |"
     )
 
 
 _MARKDOWN_HEADER = [
     "| # | entry | observation | SR | SR 95% CI | SPL | SPL 95% CI | AS / MS | episodes | seeds | training runs "
-    "| training steps | objsearch | commit |",
-    "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|",
+    "| training steps | objsearch | commit | replayed |",
+    "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|",
 ]
 
 
@@ -153,7 +172,9 @@ def render_markdown(tables: dict, partial: dict | None = None) -> str:
         "does not cover how another training seed would do; *training steps*: environment steps of one run,",
         "those of the checkpoints it starts from included. *observation*: `gt` when",
         "the agent saw ground-truth segmentation and depth, `predicted KEY` when it saw the perception network",
-        "KEY's predictions (`objsearch-eval --observation predicted`). The paper's",
+        "KEY's predictions (`objsearch-eval --observation predicted`). *replayed*: how many of the entry's",
+        "episodes `objsearch leaderboard verify` last replayed, drawn at random, and found identical (– when none",
+        "were; `docs/failure_modes.md` says what a replay proves). The paper's",
         "numbers (Ye et al., CVPR 2021) close each table in italics, for reference; they were",
         "measured on the authors' maps and task lists, not ours.",
         "An interactive version: `index.html`.",
@@ -165,15 +186,16 @@ def render_markdown(tables: dict, partial: dict | None = None) -> str:
             for p in paper_rows(suite, split):
                 lines.append(
                     f"| | *paper: {p['name']}* | *{p['observation']}* | *{_num(p['sr'])}* | | *{_num(p['spl'])}* | | "
-                    f"*{_num(p['as'])} / {_num(p['ms'])}* | | | | | | |"
+                    f"*{_num(p['as'])} / {_num(p['ms'])}* | | | | | | | |"
                 )
     if partial:
         lines += [
             "",
             "## Partial submissions (not ranked)",
             "",
-            "Entries added with `--partial`: they cover fewer splits or seeds than the suite's standard, so",
-            "they are not comparable with the ranked rows above.",
+            "Entries added with `--partial`: they cover fewer splits or seeds than the suite's standard, or were",
+            "made with other suite settings (named in the observation column), so they are not comparable with",
+            "the ranked rows above.",
         ]
         for suite, splits in partial.items():
             for split, rows in splits.items():
@@ -434,19 +456,20 @@ def _write_together(texts: dict[Path, str]) -> None:
         ) from None
 
 
-def render(root: str | Path, add: tuple[Path, dict] | None = None) -> list[Path]:
+def render(root: str | Path, add: tuple[Path, dict] | None = None, store: dict[Path, dict] | None = None) -> list[Path]:
     """Regenerate ``README.md``, ``index.html`` and ``paper_tables.md`` under ``root`` from its
     stored submissions, and the results table of the project's README (``headline``); with
-    ``add`` (path, results), store that submission as well, in the same write. Nothing is
-    replaced unless every file is written. Returns the paths written.
+    ``add`` (path, results), store that submission as well, and with ``store`` ({path:
+    results}) those, in the same write. Nothing is replaced unless every file is written.
+    Returns the paths written.
 
     Two writers at once would lose pages: callers hold the leaderboard's lock (the CLI does)."""
     from objsearch.leaderboard.headline import headline_tables, project_readme, with_headline
 
     root = Path(root)
     entries, texts = _stored(root), {}
-    if add is not None:
-        path, results = add
+    for path, results in ([add] if add is not None else []) + list((store or {}).items()):
+        entries = {p: r for p, r in entries.items() if p.resolve() != Path(path).resolve()}
         entries[path] = results
         texts[path] = json.dumps(results) + "\n"  # as objsearch.fileio.write_json(..., indent=None) writes it
     submissions = [(path.stem, results) for path, results in sorted(entries.items(), key=lambda e: e[0])]

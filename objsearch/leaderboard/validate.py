@@ -9,7 +9,11 @@ suite's episode, and its summary equals the one recomputed from its records.
 
 ``verify_submission`` goes further: it replays a sample of the episodes with the agent,
 checkpoint and suite config the submission names and requires identical records
-(evaluation is deterministic), which a renamed or fabricated submission cannot pass.
+(evaluation is deterministic), which a renamed or fabricated submission cannot pass. The
+sample is drawn with fresh OS randomness at verify time (``replay_sample``), never from the
+submission's content, so a submitter cannot know which records will be replayed; its size
+(``sample_size``) catches a submission with ``DETECT_FRACTION`` of its records altered with
+probability at least ``DETECT_PROBABILITY``.
 """
 
 from __future__ import annotations
@@ -50,7 +54,15 @@ TOLERANCE = 1e-4  # summaries are rounded to 4 decimals
 STANDARD_SEEDS = PAPER_SEEDS  # a full (ranked) submission runs every split with these seeds
 # the fields of a record that a replay must reproduce exactly (spl follows from them; no timing fields exist)
 REPLAYED = ("goal", "min_steps", "task", "success", "steps", "error")
-VERIFY_EPISODES = 8
+# a replay sample catches a submission with DETECT_FRACTION of its records altered with at least this probability
+DETECT_FRACTION = 0.05
+DETECT_PROBABILITY = 0.99
+# suite options that say where objsearch writes, never what an episode is: a submission's are
+# ignored (verify builds its caches where the verifier's settings say, never where a file says)
+WRITE_OPTIONS = ("cache_dir",)
+# suite options that say what the agent observed (shown in the observation column): the only
+# ones a ranked entry may set to other than the suite's standard
+OBSERVATION_OPTIONS = ("observation", "perception", "perception_key")
 
 
 # Parsing limits: a hostile file is refused with a message, never a traceback or a stall.
@@ -200,6 +212,18 @@ TOP_FIELDS = {
     "partial": (*_BOOL, False),
     "training_runs": ((lambda x: isinstance(x, list) and 0 < len(x) <= 100), "a list of 1 to 100 runs", False),
     "protocol": (lambda x: x in PROTOCOLS, f"one of the protocols {', '.join(PROTOCOLS)}", False),
+    # written by `objsearch leaderboard verify` into a stored entry; `add` drops a submission's own
+    "verified": (
+        lambda x: (
+            isinstance(x, dict)
+            and x.keys() == {"replayed", "episodes", "sha256"}
+            and all(_is_int(x[k]) and x[k] >= 0 for k in ("replayed", "episodes"))
+            and _SHA256[0](x["sha256"])
+            and x["sha256"] is not None
+        ),
+        "an object {replayed, episodes, sha256} written by objsearch leaderboard verify",
+        False,
+    ),
 }
 CONFIG_FIELDS = {
     "agent": (*_AGENT, True),
@@ -314,7 +338,9 @@ def check_submission(results: dict) -> list[str]:
             f"agent {results['agent']!r} on {suite_name!r} is not the config's {config['agent']!r} on {config['suite']!r}"
         ]
     try:
-        suite, episodes = _suite(suite_name, json.dumps(config.get("suite_config", {}), sort_keys=True))
+        suite, episodes = _suite(
+            suite_name, json.dumps(playable_config(config.get("suite_config", {})), sort_keys=True)
+        )
     except (UserError, TypeError, ValueError) as err:
         return [f"suite configuration {config.get('suite_config')!r} is not valid: {err}"]
     if results.get("protocol", "paper") != suite.protocol:  # results before protocols existed: the paper's
@@ -345,6 +371,13 @@ def check_submission(results: dict) -> list[str]:
         ]
     if full and results.get("partial", False):
         return [f"is marked partial but covers {standard}; add it without --partial"]
+    differing = nonstandard_settings(results)
+    if differing and not results.get("partial", False):
+        return [
+            f"suite settings {', '.join(differing)} differ from {suite_name}'s standard: entries made under other "
+            "rules are not ranked; evaluate with the suite's own settings, or add it with --partial "
+            "(shown apart with its settings named, not ranked)"
+        ]
 
     problems = _run_problems(results)
     if problems:
@@ -368,11 +401,15 @@ def check_submission(results: dict) -> list[str]:
             f"{len(failed)} episode(s) ended in an agent error, e.g. {first['split']}/seed {first['seed']}/"
             f"{first['episode_id']}: {first['error']}; a run that did not run is not a result"
         ]
+    limit = getattr(suite, "max_steps", None)
     for r in results["episodes"]:
         ep = episodes[r["split"]][r["episode_id"]]
         where = f"episode {r['split']}/seed {r['seed']}/{r['episode_id']}"
         if r["min_steps"] != ep.min_steps or r["task"] != ep.describe or r["goal"] != ep.goal_name:
             problems.append(f"{where} does not match the suite's episode (task, goal or min_steps changed)")
+        elif r["steps"] < 0 or (limit is not None and r["steps"] > limit):
+            bound = "" if limit is None else f"..{limit}"
+            problems.append(f"{where}: {r['steps']} steps, not within the suite's step limit 0{bound}")
         elif r.get("spl") is not None and _differs(r["spl"], episode_spl(r["success"], r["min_steps"], r["steps"])):
             problems.append(f"{where}: spl {r['spl']} does not follow from its success and steps")
         elif r["success"] and r["steps"] < r["min_steps"]:
@@ -401,6 +438,29 @@ def check_submission(results: dict) -> list[str]:
                     f"{where}split {split}: summary ({', '.join(fields)}) differs from the one recomputed from its episodes"
                 )
     return problems
+
+
+def playable_config(suite_config: dict) -> dict:
+    """A submission's ``suite_config`` without the options that say where objsearch writes
+    (``WRITE_OPTIONS``): a submission never chooses the folders a check or replay writes to."""
+    return {k: v for k, v in suite_config.items() if k not in WRITE_OPTIONS}
+
+
+def nonstandard_settings(results: dict) -> list[str]:
+    """The suite settings of ``results`` that differ from its suite's standard ones, as
+    ``name=value (standard: value)``: every option of the suite's config but what the agent
+    observed (``OBSERVATION_OPTIONS``) and where objsearch writes (``WRITE_OPTIONS``).
+    ``results`` must have passed ``check_submission``'s checks up to its suite."""
+    given = playable_config(results["config"].get("suite_config", {}))
+    suite, _ = _suite(results["suite"], json.dumps(given, sort_keys=True))
+    standard, _ = _suite(results["suite"], "{}")
+    ignored = (*OBSERVATION_OPTIONS, *WRITE_OPTIONS)
+    mine, theirs = suite.config(), standard.config()
+    return [
+        f"{key}={json.dumps(mine.get(key))} (standard: {json.dumps(theirs.get(key))})"
+        for key in sorted(set(mine) | set(theirs))
+        if key not in ignored and mine.get(key) != theirs.get(key)
+    ]
 
 
 def played_runs(results: dict) -> list:
@@ -441,20 +501,90 @@ def _run_problems(results: dict) -> list[str]:
     return []
 
 
-def replay_sample(results: dict, k: int = VERIFY_EPISODES) -> list[tuple]:
-    """``k`` (split, seed, episode_id, training run) units of ``results``, chosen by a hash of
-    its whole content: any change to the submission draws another sample."""
-    digest = hashlib.sha256(json.dumps(results, sort_keys=True).encode()).hexdigest()
-    units = sorted({_unit(r) for r in results["episodes"]}, key=str)
-    rank = lambda u: hashlib.sha256(
-        (f"{digest}/{u[0]}/{u[1]}/{u[2]}" + ("" if u[3] is None else f"/{u[3]}")).encode()
-    ).hexdigest()
-    return sorted(units, key=rank)[:k]
+def sample_size(total: int, fraction: float = DETECT_FRACTION, probability: float = DETECT_PROBABILITY) -> int:
+    """How many of ``total`` records a uniform sample without replacement must hold to
+    include at least one of ``ceil(fraction * total)`` altered ones with ``probability``:
+    the smallest ``n`` whose hypergeometric miss probability, the product over ``i < n`` of
+    ``(total - altered - i) / (total - i)``, is at most ``1 - probability`` (90 for large
+    entries, where it tends to the binomial bound ``(1 - fraction) ** n``); at most ``total``."""
+    altered = max(1, math.ceil(fraction * total - 1e-9))
+    miss, n = 1.0, 0
+    while n < total and miss > 1 - probability:
+        miss *= max(0, total - altered - n) / (total - n)
+        n += 1
+    return n
 
 
-def verify_submission(results: dict, k: int = VERIFY_EPISODES) -> list[str]:
-    """Problems found by replaying ``k`` of the episodes of a valid submission with the agent,
-    checkpoint and suite config it names (empty when every replayed record is identical)."""
+def miss_probability(total: int, n: int, fraction: float = DETECT_FRACTION) -> float:
+    """The probability that a sample of ``n`` of ``total`` records holds none of
+    ``ceil(fraction * total)`` altered ones (see ``sample_size``)."""
+    altered = max(1, math.ceil(fraction * total - 1e-9))
+    return math.prod(max(0, total - altered - i) / (total - i) for i in range(min(n, total)))
+
+
+def replay_units(results: dict) -> list[tuple]:
+    """Every (split, seed, episode_id, training run) unit of ``results``, in a fixed order."""
+    return sorted({_unit(r) for r in results["episodes"]}, key=str)
+
+
+def replay_sample(results: dict, k: int | None, rng: np.random.Generator) -> list[tuple]:
+    """``k`` (``None``: ``sample_size``; at most all) units of ``results`` drawn uniformly
+    without replacement by ``rng``. The verifier passes a generator seeded from fresh OS
+    randomness (``fresh_rng``), so nothing in a submission decides, or predicts, its sample."""
+    units = replay_units(results)
+    return [units[i] for i in sorted(rng.choice(len(units), size=replay_count(results, k), replace=False))]
+
+
+def replay_count(results: dict, k: int | None) -> int:
+    """How many units ``replay_sample(results, k, ...)`` draws."""
+    total = len(replay_units(results))
+    return sample_size(total) if k is None else min(k, total)
+
+
+def fresh_rng() -> np.random.Generator:
+    """A generator seeded from the operating system's randomness at the time of the call:
+    the verifier's own, unknown to any submitter."""
+    return np.random.default_rng()
+
+
+def content_sha256(results: dict) -> str:
+    """The digest of a submission's content, its ``verified`` record left out: a stored
+    verification counts only for the content it replayed."""
+    content = {k: v for k, v in results.items() if k != "verified"}
+    return hashlib.sha256(json.dumps(content, sort_keys=True).encode()).hexdigest()
+
+
+def replayed_of(results: dict) -> tuple[int, int] | None:
+    """(episodes replayed, episodes) of the stored entry ``results``'s last verification,
+    if one was recorded for its present content; None if none was."""
+    verified = results.get("verified")
+    if not isinstance(verified, dict) or verified.get("sha256") != content_sha256(results):
+        return None
+    return verified["replayed"], verified["episodes"]
+
+
+def untrusted_code(agent: str) -> str | None:
+    """What code verifying an entry of ``agent`` would import that is not a registered agent
+    (a file agent, or a ``module:Class`` that no installed package registers), said in a few
+    words; None for a registered agent (by name or by its registered ``module:Class``)."""
+    from objsearch.eval.registry import registered_agents
+
+    registered = registered_agents()
+    if agent in registered or agent in registered.values():
+        return None
+    if is_file_spec(agent):
+        return f"the Python file {agent.rpartition(':')[0]} (class {agent.rpartition(':')[2]})"
+    return f"the module {agent.rpartition(':')[0]!r} (class {agent.rpartition(':')[2]}), not a registered agent"
+
+
+def verify_submission(
+    results: dict, k: int | None = None, rng: np.random.Generator | None = None, trust: bool = False
+) -> list[str]:
+    """Problems found by replaying ``k`` (None: ``sample_size``) of the episodes of a valid
+    submission, drawn by ``rng`` (None: ``fresh_rng()``), with the agent, checkpoint and suite
+    config it names (empty when every replayed record is identical). An agent that is not a
+    registered one (``untrusted_code``) is imported only with ``trust``; the suite's
+    ``WRITE_OPTIONS`` are the verifier's, never the submission's."""
     problems = check_submission(results)
     if problems:
         return problems
@@ -465,6 +595,12 @@ def verify_submission(results: dict, k: int = VERIFY_EPISODES) -> list[str]:
                 f"its agent file {path.resolve()} is missing: replay loads the file the evaluation recorded; "
                 "put the file back there, or evaluate again and add the new results with --replace"
             ]
+    code = untrusted_code(results["agent"])
+    if code is not None and not trust:
+        return [
+            f"replaying it would import and run {code}; read that code, then pass --trust to run it "
+            "(registered agents need no --trust)"
+        ]
     c = results["config"]
     config = EvalConfig(
         agent=results["agent"],
@@ -472,14 +608,14 @@ def verify_submission(results: dict, k: int = VERIFY_EPISODES) -> list[str]:
         splits=tuple(c["splits"]),
         seeds=tuple(results["seeds"]),
         checkpoint=c.get("checkpoint"),
-        suite_config=c.get("suite_config", {}),
+        suite_config=playable_config(c.get("suite_config", {})),
         step_time_limit=None,
         training_run=c.get("training_run"),
     )
     runs = results.get("training_runs", [])
     claims = {None: c.get("weights_sha256")} if len(runs) <= 1 else {run["seed"]: run["weights_sha256"] for run in runs}
     stored = {_unit(r): r for r in results["episodes"]}
-    units = replay_sample(results, k)
+    units = replay_sample(results, k, fresh_rng() if rng is None else rng)
     for run, claimed in claims.items():
         play = config if run is None else replace(config, training_run=run)
         if claimed is not None:  # the weights the submission names must be the ones that load now

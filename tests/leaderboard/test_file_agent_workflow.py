@@ -34,11 +34,15 @@ def test_a_file_agent_evaluated_in_its_folder_is_added_and_verified_from_the_roo
     assert out.returncode == 0, out.stderr
     assert (root / "leaderboard/submissions" / f"{ENTRY}.json").is_file(), out.stdout  # a clean default name
     out = run("objsearch", "leaderboard", "verify", ENTRY, "--episodes", "3", cwd=root)
+    assert out.returncode == 2 and "Traceback" not in out.stderr, out.stderr  # it would run the file's code
+    assert f"would import and run the Python file {(mine / 'seek_agent.py').resolve()}" in out.stderr
+    assert "pass --trust" in out.stderr
+    out = run("objsearch", "leaderboard", "verify", ENTRY, "--episodes", "3", "--trust", cwd=root)
     assert out.returncode == 0, out.stderr
-    assert "3 replayed episodes identical" in out.stdout
+    assert "3 of 100 episodes, drawn at random, replayed identical" in out.stdout
 
     (mine / "seek_agent.py").rename(mine / "moved.py")
-    out = run("objsearch", "leaderboard", "verify", ENTRY, "--episodes", "3", cwd=root)
+    out = run("objsearch", "leaderboard", "verify", ENTRY, "--episodes", "3", "--trust", cwd=root)
     assert out.returncode == 2 and "Traceback" not in out.stderr, out.stderr
     assert (
         f"agent file {(mine / 'seek_agent.py').resolve()} is missing" in out.stderr

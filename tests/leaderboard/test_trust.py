@@ -7,13 +7,20 @@ import subprocess
 import sys
 from pathlib import Path
 
+import numpy as np
 import pytest
 
 from objsearch.cli import main
 from objsearch.eval.metrics import summarize
 from objsearch.leaderboard.cli import default_name
 from objsearch.leaderboard.render import leaderboard_rows, render
-from objsearch.leaderboard.validate import check_submission, replay_sample, verify_submission
+from objsearch.leaderboard.validate import (
+    check_submission,
+    fresh_rng,
+    replay_sample,
+    sample_size,
+    verify_submission,
+)
 
 BIN = Path(sys.executable).parent
 
@@ -170,10 +177,14 @@ def test_a_module_class_agent_gets_a_default_name_and_a_bad_name_is_refused(tmp_
     assert sorted(p.name for p in (board / "submissions/gridworld").iterdir()) == ["mypkg.mymodule.MyAgent.json"]
 
 
-def test_the_replayed_sample_depends_on_the_whole_content(random_results):
-    sample = replay_sample(random_results, 8)
-    assert len(set(sample)) == 8 and sample == replay_sample(copy.deepcopy(random_results), 8)
-    assert sample != replay_sample(dict(random_results, git_commit="another"), 8)
+def test_the_replayed_sample_is_drawn_by_the_verifiers_randomness_not_the_content(random_results):
+    rng = lambda seed: np.random.default_rng(seed)
+    sample = replay_sample(random_results, 8, rng(0))
+    assert len(set(sample)) == 8 and sample == replay_sample(copy.deepcopy(random_results), 8, rng(0))
+    assert sample == replay_sample(dict(random_results, git_commit="another"), 8, rng(0))  # no free field moves it
+    assert sample != replay_sample(random_results, 8, rng(1))
+    fresh = [replay_sample(random_results, None, fresh_rng()) for _ in range(3)]  # OS randomness, drawn now
+    assert all(len(s) == sample_size(200) for s in fresh) and len({tuple(s) for s in fresh}) == 3
 
 
 def test_verify_replays_genuine_entries(random_results):
@@ -205,7 +216,7 @@ def test_a_self_consistent_fake_fails_verify(tmp_path, capsys, random_results):
     (tmp_path / "genuine.json").write_text(json.dumps(random_results))
     assert run(capsys, "--dir", board, "add", tmp_path / "genuine.json", "--partial", "--create")[0] == 0
     code, out, _ = run(capsys, "--dir", board, "verify", "gridworld/random", "--episodes", "2")
-    assert code == 0 and "verified: " in out and "(2 replayed episodes identical" in out
+    assert code == 0 and "verified: " in out and "(2 of 200 episodes, drawn at random, replayed identical" in out
     assert run(capsys, "--dir", board, "add", tmp_path / "fake.json", "--partial", "--name", "fake")[0] == 0
     code, _, err = run(capsys, "--dir", board, "verify", "--all", "--episodes", "2")
     line = one_error_line(err)

@@ -54,12 +54,16 @@ def new_board(tmp_path: Path, results: dict) -> Path:
 
 def test_sixteen_concurrent_adds_store_every_entry_once_and_the_pages_list_them_all(tmp_path, full_oracle):
     board = new_board(tmp_path, full_oracle)
-    (tmp_path / "oracle.json").write_text(json.dumps(full_oracle))
     names = [f"entry{i:02d}" for i in range(16)]
-    assert add_at_once(board, [(tmp_path / "oracle.json", name) for name in names]) == [0] * 16
+    for i, name in enumerate(names):  # one result under two names is refused: told apart by their commits
+        (tmp_path / f"{name}.json").write_text(json.dumps(dict(full_oracle, git_commit=f"{i:040x}")))
+    assert add_at_once(board, [(tmp_path / f"{name}.json", name) for name in names]) == [0] * 16
     stored = sorted((board / "submissions" / "gridworld").iterdir())
     assert [p.name for p in stored] == [f"{name}.json" for name in names]
-    assert all(json.loads(p.read_text()) == json.loads(json.dumps(full_oracle)) for p in stored)
+    assert all(
+        json.loads(p.read_text()) == json.loads(json.dumps(dict(full_oracle, git_commit=f"{i:040x}")))
+        for i, p in enumerate(stored)
+    )
     readme = (board / "README.md").read_text()
     for split, rows in page_data(board)["tables"]["gridworld"].items():
         assert sorted(r["name"] for r in rows) == names, split
@@ -99,7 +103,8 @@ def test_a_failed_write_leaves_the_entries_and_pages_as_they_were(tmp_path, caps
             yield f
 
     monkeypatch.setattr(render_module, "atomic_write", full_disk_at_the_last_page)
-    code = main(["leaderboard", "--dir", str(board), "add", str(tmp_path / "oracle.json"), "--partial", "--name", "b"])
+    (tmp_path / "b.json").write_text(json.dumps(dict(oracle_results, git_commit="b" * 40)))
+    code = main(["leaderboard", "--dir", str(board), "add", str(tmp_path / "b.json"), "--partial", "--name", "b"])
     err = capsys.readouterr().err
     assert code == 2 and "paper_tables.md: No space left on device" in err and "Traceback" not in err
     assert "the leaderboard is as it was" in err
