@@ -11,9 +11,15 @@ entrance) or ``house-gen-1`` (the generator of house-single, house-multi and hou
 kitchen, living_room, bedroom or bathroom each, sized and furnished by ``house-gen-2``'s room
 rules, without doors, with more small objects (``OUT/<split>_<type>_<seed>/``).
 
+``--generator house-gen-3`` builds large houses (9-14 rooms, 150-250 m^2, a long corridor,
+repeated bedrooms and bathrooms, small objects at most twice each); ``--rooms N`` (4-14) fixes
+the number of rooms, the tier's size knob.
+
 ``--placement shuffled`` builds the same houses (floorplan, rooms, objects) with every object
 moved to a random place anywhere in the house, whatever the functional groups and room
-priors say (``objsearch.house.shuffle``): houses whose object relations are broken.
+priors say; ``--placement roomwise`` moves every object to a random place in a room of its
+room's type (``objsearch.house.shuffle``): houses whose object relations are broken, room
+priors kept.
 """
 
 from __future__ import annotations
@@ -23,9 +29,21 @@ import sys
 
 from objsearch.cliargs import non_negative_int, positive_int
 from objsearch.errors import UserError
-from objsearch.house.generators import GENERATORS
+from objsearch.house.generators import GENERATORS, get_generator
 from objsearch.house.rooms import ROOM_TYPES, room_builder
 from objsearch.house.spec import DEFAULT_GENERATOR, HOUSE_PLACEMENTS
+from objsearch.house.stages import ROOM_COUNT_CLASSES, SIZE_CLASSES
+
+
+def size_class_arg(text: str) -> str:
+    """``--rooms``: a size class name, or a number of rooms N as the class ``rooms-N`` (house-gen-3)."""
+    if text.isdigit():
+        if f"rooms-{int(text)}" not in ROOM_COUNT_CLASSES:
+            raise argparse.ArgumentTypeError(f"{text} rooms: house-gen-3 builds 4 to 14 rooms")
+        return f"rooms-{int(text)}"
+    if text not in SIZE_CLASSES and text not in ROOM_COUNT_CLASSES:
+        raise argparse.ArgumentTypeError(f"{text!r}: use small, medium, large, xlarge or a number of rooms (4-14)")
+    return text
 
 
 def add_parser(subparsers) -> None:
@@ -41,8 +59,9 @@ def add_parser(subparsers) -> None:
     p.add_argument("--out", required=True, help="output directory")
     p.add_argument(
         "--rooms",
-        choices=("small", "medium", "large"),
-        help="size class: 3-4, 4-6 or 6-9 rooms (default: drawn per seed)",
+        type=size_class_arg,
+        help="size class: small, medium or large (3-4, 4-6 or 6-9 rooms; default: drawn per seed); house-gen-3: "
+        "a number of rooms, 4-14 (its size knob), or xlarge (9-14 rooms drawn per house, its default)",
     )
     p.add_argument(
         "--room",
@@ -65,8 +84,9 @@ def add_parser(subparsers) -> None:
         "--placement",
         choices=HOUSE_PLACEMENTS,
         default="functional",
-        help="where objects go: functional (default: in functional groups, by room priors) or shuffled (the "
-        "functional house's objects, each moved to a random place anywhere in the house)",
+        help="where objects go: functional (default: in functional groups, by room priors), shuffled (the "
+        "functional house's objects, each moved to a random place anywhere in the house) or roomwise (each moved "
+        "to a random place in a room of its room's type)",
     )
     p.add_argument("--no-preview", action="store_true", help="skip preview.png")
     p.add_argument("--quiet", action="store_true", help="no progress bar")
@@ -86,6 +106,11 @@ def run(args: argparse.Namespace) -> int:
             raise UserError(
                 f"--rooms (a house's size class) and --room (single rooms) exclude each other; drop --rooms {args.rooms}"
             )
+    if args.rooms is not None and args.room is None and args.rooms not in get_generator(args.generator).size_classes:
+        raise UserError(
+            f"{args.generator} has no size --rooms {args.rooms.removeprefix('rooms-')}; use one of "
+            f"{', '.join(c.removeprefix('rooms-') for c in get_generator(args.generator).size_classes)}"
+        )
     check_writable(args.out, "--out", folder=True)
     write_json(f"{args.out}/categories.json", category_table(), elsewhere="choose another --out")
     failed = []

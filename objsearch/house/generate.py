@@ -21,11 +21,12 @@ living room, bedroom or bathroom by ``house-gen-2``'s room rules, no doors, dens
 objects; the spec records ``size_class`` ``room`` and ``extra["room"]``.
 
 Placements (``HOUSE_PLACEMENTS``, chosen with ``generate_house(..., placement=NAME)``): ``functional``
-(the default: objects in functional groups, by room priors) and ``shuffled``: the functional
+(the default: objects in functional groups, by room priors), ``shuffled``: the functional
 house that the same arguments give, with every object moved to a random place anywhere in
-the house (``objsearch.house.shuffle``), drawn from its own generator
-(``default_rng([seed, split, SHUFFLE_STREAM, Generator.shuffle_key])``, so the functional
-draws are unchanged). Every shuffle is validated, ``validate`` or not; a shuffle that fails
+the house, and ``roomwise``: every object moved to a random place in a room of its room's
+type (``objsearch.house.shuffle``), each drawn from its own generator
+(``default_rng([seed, split, PLACEMENT_STREAMS[placement], Generator.shuffle_key])``, so the
+functional draws are unchanged). Every shuffle is validated, ``validate`` or not; a shuffle that fails
 draws another, up to ``SHUFFLE_ATTEMPTS``. (``validate=False``, as suites regenerate their
 houses, takes the first attempt that compiles, valid or not, so its functional house, and then
 its shuffled one, may differ from the validated one of the seed.)
@@ -47,11 +48,13 @@ from objsearch.house.generators import GENERATORS, get_generator
 from objsearch.house.mjcf import compile_house
 from objsearch.house.shuffle import shuffle_house
 from objsearch.house.spec import DEFAULT_GENERATOR, HOUSE_PLACEMENTS, HouseSpec
-from objsearch.house.stages import SIZE_CLASSES, SPLITS, StageFailure, size_class_for
+from objsearch.house.stages import SPLITS, StageFailure
 from objsearch.house.validate import ValidationReport, validate_house
 
 SHUFFLE_ATTEMPTS = 32
 SHUFFLE_STREAM = 104729
+#: The random stream of each placement that moves a functional house's objects (``_moved``).
+PLACEMENT_STREAMS = {"shuffled": SHUFFLE_STREAM, "roomwise": 130363}
 
 
 class HouseGenerationError(RuntimeError):
@@ -108,13 +111,15 @@ def generate_house(
         if size_class not in (None, ROOM_SIZE_CLASS):
             raise UserError(f"a single room ({room}) has no size class {size_class!r}; give none")
         size_class = ROOM_SIZE_CLASS
-    elif size_class is not None and size_class not in SIZE_CLASSES:
-        raise UserError(f"unknown room size {size_class!r}; use one of {', '.join(SIZE_CLASSES)}")
+    elif size_class is not None and size_class not in get_generator(generator).size_classes:
+        raise UserError(
+            f"{generator} has no room size {size_class!r}; use one of {', '.join(get_generator(generator).size_classes)}"
+        )
     if placement not in HOUSE_PLACEMENTS:
         raise UserError(f"unknown placement {placement!r}; use one of {', '.join(HOUSE_PLACEMENTS)}")
-    size_class = size_class or size_class_for(seed)
-    if placement == "shuffled":
-        return _shuffled(generate_house(seed, size_class, split, validate, generator, room=room))
+    size_class = size_class or get_generator(generator).default_size_class(seed)
+    if placement != "functional":
+        return _moved(generate_house(seed, size_class, split, validate, generator, room=room), placement)
     failures = []
     attempts = get_generator(generator).attempts
     for attempt in range(attempts):
@@ -128,20 +133,21 @@ def generate_house(
     )
 
 
-def _shuffled(house: GeneratedHouse) -> GeneratedHouse:
-    """The shuffled house of the functional ``house``: the first valid of ``SHUFFLE_ATTEMPTS`` shuffles."""
+def _moved(house: GeneratedHouse, placement: str) -> GeneratedHouse:
+    """The ``placement`` house (``shuffled`` or ``roomwise``) of the functional ``house``: the
+    first valid of ``SHUFFLE_ATTEMPTS`` shuffles."""
     spec = house.spec
     generator = spec.generator_version
     key = get_generator(generator).shuffle_key
-    rng = np.random.default_rng([spec.seed, SPLITS[spec.split], SHUFFLE_STREAM, key])
+    rng = np.random.default_rng([spec.seed, SPLITS[spec.split], PLACEMENT_STREAMS[placement], key])
     failures = []
     for attempt in range(SHUFFLE_ATTEMPTS):
-        shuffled = _checked(partial(shuffle_house, spec, rng), validate=True)
-        if isinstance(shuffled, GeneratedHouse):
-            return shuffled
-        failures.append(f"shuffle {attempt}: {shuffled}")
+        moved = _checked(partial(shuffle_house, spec, rng, placement), validate=True)
+        if isinstance(moved, GeneratedHouse):
+            return moved
+        failures.append(f"shuffle {attempt}: {moved}")
     raise HouseGenerationError(
-        f"seed {spec.seed} ({spec.size_class}, {spec.split}, {generator}, placement shuffled): no valid shuffle "
+        f"seed {spec.seed} ({spec.size_class}, {spec.split}, {generator}, placement {placement}): no valid shuffle "
         f"in {SHUFFLE_ATTEMPTS} tries; use another seed:\n  " + "\n  ".join(failures)
     )
 

@@ -21,6 +21,7 @@ from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
 from objsearch.errors import UserError
+from objsearch.house.stages import SIZE_CLASSES, size_class_for
 
 if TYPE_CHECKING:
     from objsearch.house.spec import HouseSpec
@@ -29,6 +30,7 @@ if TYPE_CHECKING:
 GENERATORS: dict[str, str] = {
     "house-gen-1": "objsearch.house.gen1",
     "house-gen-2": "objsearch.house.gen2",
+    "house-gen-3": "objsearch.house.gen3",
 }
 
 
@@ -49,8 +51,11 @@ class Generator:
             ``validate_house`` checks beside the compile, overlap, reachability and visibility
             checks every house gets.
         attempts: how many attempts ``generate_house`` makes before it gives up on a seed.
-        shuffle_key: keys the random stream of the version's shuffled houses
-            (``generate.SHUFFLE_STREAM``); never reused by another version.
+        shuffle_key: keys the random stream of the version's shuffled and roomwise houses
+            (``generate.PLACEMENT_STREAMS``); never reused by another version.
+        size_classes: the size classes ``build_spec`` takes (``stages.SIZE_CLASSES``: small,
+            medium, large; ``house-gen-3``: ``stages.ROOM_COUNT_CLASSES``).
+        default_size_class: ``default_size_class(seed)``: the size class of a seed given none.
     """
 
     name: str
@@ -58,6 +63,8 @@ class Generator:
     attempts: int
     shuffle_key: int
     check_rules: Callable[[HouseSpec], list[str]] = no_rules
+    size_classes: tuple[str, ...] = tuple(SIZE_CLASSES)
+    default_size_class: Callable[[int], str] = size_class_for
 
 
 def get_generator(name: str) -> Generator:

@@ -1,4 +1,11 @@
-"""Placement ``shuffled``: a house whose object relations are broken.
+"""Placements ``shuffled`` and ``roomwise``: houses whose object relations are broken.
+
+``roomwise`` is ``shuffled`` within room types: every object moves to a random place in a
+room of the type it stood in (any bedroom for a bedroom's lamp, the kitchen for the kettle),
+on any receptacle of such rooms for an object that stood on another. Object-object relations
+(the lamp on the nightstand, the pot on the stove) are broken; room priors are kept. What an
+agent loses from functional to roomwise it owed to object relations, from roomwise to
+shuffled to room priors. The rules below hold for both, within the rooms allowed.
 
 ``generate_house(seed, ..., placement="shuffled")`` takes the functional house of the seed
 and generator (floorplan, rooms, doors, walls, materials, and its objects: categories,
@@ -27,7 +34,7 @@ first (floor objects by footprint, then wall-mounted ones, then those on top), e
 in the rooms (receptacles) in the order drawn until it fits; one that fits nowhere fails
 the shuffle (``StageFailure``) and ``generate_house`` draws another, as it does for a
 shuffle that fails validation. The spec keeps the functional house's object order and
-names; its ``extra`` records ``{"placement": "shuffled"}`` (a functional house's ``extra``
+names; its ``extra`` records ``{"placement": "shuffled"}`` (or ``"roomwise"``; a functional house's ``extra``
 stays empty, so its bytes never change). A change here changes every shuffled house: the
 spec hashes recorded by the ``house-gen-v2-shuffled`` suite file catch it (rebuild that
 suite deliberately, with a new version).
@@ -47,7 +54,8 @@ from objsearch.house.layout import HouseContext, RoomLayout
 from objsearch.house.spec import HouseSpec, ObjectInstance, Room, r4
 from objsearch.house.stages import StageFailure
 
-PLACEMENT = "shuffled"
+#: The placements this module makes: each object anywhere in the house, or in a room of its room's type.
+PLACEMENTS = ("shuffled", "roomwise")
 ON_TOP_TRIES = 4  # spots tried on each receptacle
 FRONT_BAND = 0.6  # an object on top stands this near its receptacle's front edge (deep beds, tables)
 CORNER_ACCESS = 0.3  # free strip in front of an object in a corner (as the functional fill keeps)
@@ -142,9 +150,17 @@ def _near_front(L: RoomLayout, parent: ObjectInstance, w: float, d: float, rect)
     return L.span(x0 + 0.01 + w / 2, x1 - 0.01 - w / 2), L.span(y0 + 0.01 + d / 2, y1 - 0.01 - d / 2)
 
 
-def shuffle_objects(spec: HouseSpec, rng: np.random.Generator) -> list[ObjectInstance]:
-    """``spec``'s objects, each moved to a random place in the house (the module docstring), in
-    ``spec``'s order; raises ``StageFailure`` when one finds no place."""
+def shuffle_objects(spec: HouseSpec, rng: np.random.Generator, placement: str = "shuffled") -> list[ObjectInstance]:
+    """``spec``'s objects, each moved to a random place in the house (``shuffled``) or in a room of
+    its room's type (``roomwise``; the module docstring), in ``spec``'s order; raises
+    ``StageFailure`` when one finds no place."""
+    if placement not in PLACEMENTS:
+        raise ValueError(f"placement must be one of {PLACEMENTS}, not {placement!r}")
+    room_type = {r.id: r.type for r in spec.rooms}
+
+    def allowed(obj: ObjectInstance, room: int) -> bool:
+        return placement == "shuffled" or room_type[room] == room_type[obj.room]
+
     ctx = _MovingContext(rng, spec.split)
     layouts = room_layouts(ctx, spec)
     quota = Counter(o.room for o in spec.objects if _kind(o) < 2)
@@ -153,7 +169,7 @@ def shuffle_objects(spec: HouseSpec, rng: np.random.Generator) -> list[ObjectIns
         ctx.moving = obj
         placed = None
         if _kind(obj) == 2:
-            receptacles = [o for o in ctx.objects if category(o.category).receptacle]
+            receptacles = [o for o in ctx.objects if category(o.category).receptacle and allowed(obj, o.room)]
             for i in rng.permutation(len(receptacles)):
                 parent = receptacles[i]
                 placed = layouts[parent.room].try_on_top(
@@ -167,7 +183,7 @@ def shuffle_objects(spec: HouseSpec, rng: np.random.Generator) -> list[ObjectIns
                 if placed:
                     break
         else:
-            for room in _room_order(rng, spec.rooms, quota):
+            for room in _room_order(rng, [r for r in spec.rooms if allowed(obj, r.id)], quota):
                 placed = _place_in(layouts[room.id], obj)
                 if placed:
                     quota[room.id] -= 1
@@ -178,6 +194,7 @@ def shuffle_objects(spec: HouseSpec, rng: np.random.Generator) -> list[ObjectIns
     return [moved[o.name] for o in spec.objects]
 
 
-def shuffle_house(spec: HouseSpec, rng: np.random.Generator) -> HouseSpec:
-    """``spec`` with its objects shuffled (``shuffle_objects``), recorded as ``extra["placement"]``."""
-    return replace(spec, objects=tuple(shuffle_objects(spec, rng)), extra={**spec.extra, "placement": PLACEMENT})
+def shuffle_house(spec: HouseSpec, rng: np.random.Generator, placement: str = "shuffled") -> HouseSpec:
+    """``spec`` with its objects moved (``shuffle_objects``), recorded as ``extra["placement"]``."""
+    objects = tuple(shuffle_objects(spec, rng, placement))
+    return replace(spec, objects=objects, extra={**spec.extra, "placement": placement})

@@ -24,8 +24,9 @@ DECIMALS = 4
 #: The room id a door's ``rooms`` holds for the outside of the house (an entrance door).
 OUTSIDE = -1
 #: How a house's objects are placed (``HouseSpec.placement``): in functional groups by room
-#: priors, or shuffled (``objsearch.house.shuffle``). The first is the default.
-HOUSE_PLACEMENTS = ("functional", "shuffled")
+#: priors, shuffled anywhere in the house, or roomwise (shuffled within room types;
+#: ``objsearch.house.shuffle``). The first is the default.
+HOUSE_PLACEMENTS = ("functional", "shuffled", "roomwise")
 #: The generator version (``HouseSpec.generator_version``; the registry:
 #: ``objsearch.house.generators.GENERATORS``) that ``generate_house`` and ``objsearch generate``
 #: use unless told otherwise.
@@ -243,8 +244,8 @@ class HouseSpec(JsonConfig):
 
     @property
     def placement(self) -> str:
-        """How the objects were placed: ``functional`` (groups and room priors) or ``shuffled``
-        (``objsearch.house.shuffle``), recorded in ``extra`` (absent: functional, so the
+        """How the objects were placed: ``functional`` (groups and room priors), ``shuffled`` or
+        ``roomwise`` (``objsearch.house.shuffle``), recorded in ``extra`` (absent: functional, so the
         functional houses' bytes never changed)."""
         return self.extra.get("placement", HOUSE_PLACEMENTS[0])
 

@@ -19,6 +19,9 @@ SIZE_CLASSES = {
     "medium": {"side": (8.0, 12.0), "rooms": (4, 6)},
     "large": {"side": (11.0, 16.0), "rooms": (6, 9)},
 }
+#: Size classes of ``house-gen-3`` (its size knob): ``rooms-N`` is exactly N rooms (4-14), ``xlarge``
+#: 9-14 rooms drawn per house. Apart from ``SIZE_CLASSES``, whose draw (``size_class_for``) they leave alone.
+ROOM_COUNT_CLASSES = {**{f"rooms-{n}": (n, n) for n in range(4, 15)}, "xlarge": (9, 14)}
 SIZE_STREAM = 7919
 WALL_HEIGHT = 2.7
 WALL_THICKNESS = 0.12

@@ -23,7 +23,7 @@ from objsearch.house.categories import CATEGORY_IDS, FIRST_OBJECT_ID
 from objsearch.house.generators import GENERATORS
 from objsearch.house.rooms import ROOM_SIZE_CLASS, ROOM_TYPES
 from objsearch.house.spec import HOUSE_PLACEMENTS
-from objsearch.house.stages import SIZE_CLASSES, SPLITS
+from objsearch.house.stages import ROOM_COUNT_CLASSES, SIZE_CLASSES, SPLITS
 from objsearch.sim.env import STARTS
 from objsearch.sim.goals import PROTOCOLS, RULES
 from objsearch.sim.navgraph import NAVGRAPH_VERSION
@@ -47,7 +47,10 @@ _HOUSE = {
     "properties": {
         "seed": {"type": "integer", "minimum": 0, "description": "the house's generator seed"},
         "split": {"enum": list(SPLITS), "description": "the generator split the house was made for"},
-        "size_class": {"enum": [*SIZE_CLASSES, ROOM_SIZE_CLASS, None], "description": "the house's size class"},
+        "size_class": {
+            "enum": [*SIZE_CLASSES, *ROOM_COUNT_CLASSES, ROOM_SIZE_CLASS, None],
+            "description": "the house's size class",
+        },
         "generator": {"enum": list(GENERATORS), "description": "the generator version"},
         "placement": {"enum": list(HOUSE_PLACEMENTS), "description": "how its objects are placed (absent: functional)"},
         "room": {

@@ -75,7 +75,7 @@ def test_unknown_placement_and_a_house_that_cannot_be_shuffled(monkeypatch):
     with pytest.raises(UserError, match="unknown placement 'random'; use one of functional, shuffled"):
         generate_house(0, placement="random")
 
-    def no_room(spec, rng):
+    def no_room(spec, rng, placement):
         raise StageFailure("no place for bed_0 in the house")
 
     monkeypatch.setattr(generate, "shuffle_house", no_room)

@@ -53,13 +53,15 @@ def spec_of_plan(
     furnished: bool = True,
     small_density: float = 0.0,
     extra: dict | None = None,
+    version: str = VERSION,
 ) -> HouseSpec:
     """The stages after the doors: materials, walls and (with ``furnished``) furniture and fill,
     drawn from ``rng``, as the ``HouseSpec`` of a ``house-gen-2`` house with these fields.
 
     ``small_density`` > 0 tops every room up with small objects to that many objects per m^2
-    (``gen2.furnish.furnish``); ``extra`` is the spec's ``extra``. The defaults give the
-    houses of ``build_spec``.
+    (``gen2.furnish.furnish``); ``extra`` is the spec's ``extra``; ``version`` the generator the
+    spec records (``house-gen-3`` builds on these stages). The defaults give the houses of
+    ``build_spec``.
     """
     materials, rooms = [], []
     for i, (poly, t) in enumerate(zip(plan.polygons, plan.types)):
@@ -87,7 +89,7 @@ def spec_of_plan(
         split=split,
         size_class=size_class,
         attempt=attempt,
-        generator_version=VERSION,
+        generator_version=version,
         category_table_version=CATEGORY_TABLE_VERSION,
         footprint=footprint,
         wall_height=WALL_HEIGHT,

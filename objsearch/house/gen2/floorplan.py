@@ -183,16 +183,27 @@ def _cuts(x0: float, widths: list[float], x_end: float) -> list[tuple[float, flo
     return out
 
 
-def plan_house(types: list[str], rng: np.random.Generator) -> Plan:
-    """Lay out the rooms of ``types`` (see the module docstring); raises ``StageFailure`` when it cannot."""
+def plan_house(
+    types: list[str],
+    rng: np.random.Generator,
+    max_private_run: float = MAX_PRIVATE_RUN,
+    area_limits: dict[str, tuple[float, float]] = AREA_LIMITS,
+    area_ranges: dict[str, tuple[float, float]] = AREA_RANGES,
+) -> Plan:
+    """Lay out the rooms of ``types`` (see the module docstring); raises ``StageFailure`` when it cannot.
+
+    ``max_private_run`` (m), ``area_limits`` and ``area_ranges`` are ``house-gen-2``'s by default;
+    ``house-gen-3`` passes its own (longer private bands, larger rooms and corridors) and draws
+    the same way otherwise.
+    """
     hall = "hallway" in types
     dp = _snap(rng.uniform(*PRIVATE_BAND))
     c = _snap(rng.uniform(*CORRIDOR)) if hall else 0.0
     privs = [t for t in types if t in PRIVATE]
     privs = [privs[int(k)] for k in rng.permutation(len(privs))]
-    units = [{"kind": "room", "type": t, "area": rng.uniform(*AREA_RANGES[t])} for t in privs]
+    units = [{"kind": "room", "type": t, "area": rng.uniform(*area_ranges[t])} for t in privs]
     for b in range(types.count("bathroom")):
-        area = rng.uniform(*AREA_RANGES["bathroom"])
+        area = rng.uniform(*area_ranges["bathroom"])
         hosts = [u for u in units if u["kind"] == "room" and u["type"] == "bedroom"]
         ensuite = bool(hosts) and dp >= 3.8 and rng.random() < (1 - FRONT_FIRST_BATH if b == 0 else ENSUITE_OTHER)
         if ensuite:
@@ -227,7 +238,7 @@ def plan_house(types: list[str], rng: np.random.Generator) -> Plan:
                 u["host"] = host
     top_privs: list[dict] = []
     if hall:  # a long private band sends plain rooms (without a strip) to the public band
-        while sum(u["width"] for u in units) > MAX_PRIVATE_RUN:
+        while sum(u["width"] for u in units) > max_private_run:
             movable = [j for j, u in enumerate(units) if u["kind"] == "room" and "strip" not in u]
             if not movable:
                 break
@@ -242,7 +253,7 @@ def plan_house(types: list[str], rng: np.random.Generator) -> Plan:
     # public band
     pubs = [t for t in types if t in PUBLIC and t != "living_room"]
     pubs = ["living_room"] + [pubs[int(k)] for k in rng.permutation(len(pubs))]
-    areas = [rng.uniform(*AREA_RANGES[t]) for t in pubs]
+    areas = [rng.uniform(*area_ranges[t]) for t in pubs]
     leg = rng.random() < L_LIVING
     x_a = _snap(rng.uniform(2.2, 3.2)) if leg else 0.0
     leg_depth = c if hall else dp
@@ -332,7 +343,7 @@ def plan_house(types: list[str], rng: np.random.Generator) -> Plan:
     polygons = [outline([move(r) for r in rects]) for _, rects in rooms]
     for t, rects in rooms:
         area = sum((r[2] - r[0]) * (r[3] - r[1]) for r in rects)
-        lo, hi = AREA_LIMITS[t]
+        lo, hi = area_limits[t]
         if not lo <= area <= hi:
             raise StageFailure(f"a {t} of {area:.1f} m^2 is outside {lo}-{hi} m^2")
     w, d = (depth, width) if tr else (width, depth)

@@ -44,8 +44,9 @@ def _neighbours(spec: HouseSpec) -> dict[int, list[int]]:
     return out
 
 
-def rule_problems(spec: HouseSpec) -> dict[str, list[str]]:
-    """Problems per rule of ``RULES`` (an empty list: the rule holds); ``fill`` only for a house with objects."""
+def rule_problems(spec: HouseSpec, area_limits: dict[str, tuple[float, float]] = AREA_LIMITS) -> dict[str, list[str]]:
+    """Problems per rule of ``RULES`` (an empty list: the rule holds); ``fill`` only for a house with
+    objects. ``area_limits``: ``house-gen-2``'s by default (``house-gen-3`` passes its own)."""
     types = {r.id: r.type for r in spec.rooms}
     types[OUTSIDE] = "outside"
     nb = _neighbours(spec)
@@ -77,7 +78,7 @@ def rule_problems(spec: HouseSpec) -> dict[str, list[str]]:
                 p["bathroom"].append(f"bathroom {r.id} opens onto room {doors_to[0]} ({types[doors_to[0]]})")
         elif r.type == "hallway" and len(doors_to) < 2:
             p["hallway"].append(f"hallway {r.id} joins {len(doors_to)} room(s), not at least 2")
-        lo, hi = AREA_LIMITS[r.type]
+        lo, hi = area_limits[r.type]
         if not lo <= r.area <= hi:
             p["area"].append(f"room {r.id} ({r.type}) is {r.area:.1f} m^2, outside {lo}-{hi}")
     for d in spec.doors:
