@@ -10,6 +10,7 @@ import os
 import re
 import shutil
 import socket
+import stat
 import tempfile
 import time
 from pathlib import Path
@@ -76,12 +77,52 @@ def reserve(path: str | os.PathLike) -> None:
         os.close(fd)
 
 
+_KINDS = {
+    stat.S_IFDIR: "folder",
+    stat.S_IFCHR: "character device",
+    stat.S_IFBLK: "block device",
+    stat.S_IFIFO: "FIFO (named pipe)",
+    stat.S_IFSOCK: "socket",
+}
+
+
+def not_regular(path: str | os.PathLike) -> str | None:
+    """What ``path`` is if it exists (following symlinks) and is not a regular file: ``folder``,
+    ``character device``, ... (None for a regular file or nothing there)."""
+    try:
+        mode = os.stat(path).st_mode
+    except (FileNotFoundError, NotADirectoryError):
+        return None
+    return None if stat.S_ISREG(mode) else _KINDS.get(stat.S_IFMT(mode), "special file")
+
+
+def output_file(path: str | os.PathLike, elsewhere: str = "write elsewhere") -> Path:
+    """The file that writing ``path`` replaces: ``path``, or, when ``path`` is a symlink, the
+    file it points to (the link stays a link, and points to the new content). Refuses
+    (``UserError``, naming the path and ``elsewhere``, the fix) a path that is, or points to,
+    anything but a regular file: a folder, a character device (``/dev/null``), a FIFO, a
+    socket. The one check of every output objsearch writes (``atomic_write``, ``check_writable``)."""
+    from objsearch.errors import UserError
+
+    path = Path(path)
+    target = Path(os.path.realpath(path)) if path.is_symlink() else path
+    kind = not_regular(target)
+    if kind is not None:
+        via = f" (a symlink to {target})" if target != path else ""
+        raise UserError(
+            f"cannot write {path}{via}: it is a {kind}, not a regular file, and objsearch replaces only "
+            f"regular files; {elsewhere}"
+        )
+    return target
+
+
 @contextlib.contextmanager
 def atomic_write(path: str | os.PathLike, mode: str = "w", elsewhere: str = "write elsewhere"):
     """Open a temp file beside ``path``; on success rename it over ``path``, on error delete it
-    (``path`` keeps what it held). A full disk is a ``UserError`` naming ``path`` and the
-    fix (``full_disk_error``)."""
-    path = Path(path)
+    (``path`` keeps what it held). ``path`` must be a regular file or nothing yet; a symlink's
+    target is replaced, not the link (``output_file``). A full disk is a ``UserError`` naming
+    ``path`` and the fix (``full_disk_error``)."""
+    path = output_file(path, elsewhere)
     with full_disk_as_error(path, elsewhere):
         path.parent.mkdir(parents=True, exist_ok=True)
         fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=f".{path.name}.", suffix=".tmp")
@@ -120,14 +161,17 @@ def write_csv(path: str | os.PathLike, fieldnames, rows) -> None:
 def atomic_directory(path: str | os.PathLike):
     """Yield a temp folder beside ``path``; on success it replaces ``path`` (whatever was
     there, also a folder another process put there meanwhile: the last one wins), on error
-    it is deleted. The temp folder is ``.<name>.<host>.<pid>.XXXX.tmp``, so that
-    ``abandoned_temp_folders`` can tell one of a killed process."""
+    it is deleted. The temp folder is ``.<name>.<host>.<pid>.XXXX.tmp`` and holds the marker
+    file ``TEMP_MARKER`` until it is renamed, so that ``abandoned_temp_folders`` can tell one
+    of a killed process, and never takes a folder that objsearch did not make for one."""
     path = Path(path)
     path.parent.mkdir(parents=True, exist_ok=True)
     prefix = f".{path.name}.{socket.gethostname()}.{os.getpid()}."
     tmp = Path(tempfile.mkdtemp(dir=path.parent, prefix=prefix, suffix=".tmp"))
     try:
+        (tmp / TEMP_MARKER).write_text(f"{MARKER_TEXT}{socket.gethostname()} {os.getpid()}\n")
         yield tmp
+        (tmp / TEMP_MARKER).unlink(missing_ok=True)
         old = tmp.with_name(tmp.name[: -len(".tmp")] + ".old.tmp")
         while True:
             try:
@@ -149,13 +193,31 @@ def atomic_directory(path: str | os.PathLike):
         raise
 
 
+TEMP_MARKER = ".objsearch-temp-folder"  # in every atomic_directory temp folder until it is renamed into place
+MARKER_TEXT = "a temp folder of objsearch.fileio.atomic_directory: "
+
+
+def is_temp_folder(folder: str | os.PathLike) -> bool:
+    """Whether ``folder`` is a temp folder that ``atomic_directory`` made: a real folder (no
+    symlink) holding the marker file it wrote, a regular file that starts with ``MARKER_TEXT``."""
+    folder, marker = Path(folder), Path(folder, TEMP_MARKER)
+    if folder.is_symlink() or not folder.is_dir() or marker.is_symlink() or not marker.is_file():
+        return False
+    try:
+        with marker.open("rb") as f:
+            return f.read(len(MARKER_TEXT)) == MARKER_TEXT.encode()
+    except OSError:
+        return False
+
+
 def abandoned_temp_folders(parent: str | os.PathLike, max_age_hours: float = 24.0) -> list[Path]:
     """``atomic_directory`` temp folders in ``parent`` whose process is gone: on this host
-    and not running, or (another host, or an old name without a pid) untouched for
-    ``max_age_hours``."""
+    and not running, or (another host) untouched for ``max_age_hours``. A folder counts only
+    if it holds the marker ``atomic_directory`` wrote (``is_temp_folder``), never by its name
+    alone: a user's ``.notes.tmp`` folder beside the caches is never taken for one."""
     parent, host, out = Path(parent), socket.gethostname(), []
     for tmp in parent.glob(".*.tmp") if parent.is_dir() else []:
-        if not tmp.is_dir():
+        if not is_temp_folder(tmp):
             continue
         mine = re.search(rf"\.{re.escape(host)}\.(\d+)\.", tmp.name)
         if mine:
@@ -185,6 +247,8 @@ def check_writable(path: str | os.PathLike, what: str, folder: bool = False) -> 
     path = Path(path).absolute()
     if not folder and path.is_dir():
         raise UserError(f"{what} {path} is a folder; give a file path, e.g. {path / 'results.json'}")
+    if not folder:
+        output_file(path, f"choose another {what}")
     if folder and path.exists() and not path.is_dir():
         raise UserError(f"{what} {path} is a file, not a folder; give a folder path")
     target = path if folder and path.is_dir() else path.parent

@@ -15,6 +15,8 @@ import pytest
 
 from objsearch.errors import UserError
 from objsearch.fileio import (
+    MARKER_TEXT,
+    TEMP_MARKER,
     abandoned_temp_folders,
     atomic_directory,
     atomic_write,
@@ -170,6 +172,12 @@ def dead_pid() -> int:
     return child.pid
 
 
+def temp_folder(path):
+    """A temp folder as ``atomic_directory`` makes one: with its marker file."""
+    path.mkdir()
+    (path / TEMP_MARKER).write_text(MARKER_TEXT + "test\n")
+
+
 def make_old(path, hours):
     when = time.time() - hours * 3600
     for p in [*path.iterdir(), path]:
@@ -180,8 +188,8 @@ def test_abandoned_temp_folders_finds_those_of_dead_processes_on_this_host(tmp_p
     host = socket.gethostname()
     dead = tmp_path / f".cache.{host}.{dead_pid()}.abcd.tmp"
     alive = tmp_path / f".cache.{host}.{os.getpid()}.efgh.tmp"
-    dead.mkdir()
-    alive.mkdir()
+    temp_folder(dead)
+    temp_folder(alive)
     make_old(alive, 100)  # running: never abandoned, however old
     assert abandoned_temp_folders(tmp_path) == [dead]
 
@@ -191,7 +199,7 @@ def test_abandoned_temp_folders_of_another_host_or_without_pid_go_by_age(tmp_pat
     other_new = tmp_path / ".cache.some-other-host.12346.abcd.tmp"
     legacy_old = tmp_path / ".cache.abcd.tmp"
     for folder in (other_old, other_new, legacy_old):
-        folder.mkdir()
+        temp_folder(folder)
         (folder / "part").write_text("x")
     make_old(other_old, 30)
     make_old(legacy_old, 30)
@@ -204,7 +212,7 @@ def test_abandoned_temp_folders_of_another_host_or_without_pid_go_by_age(tmp_pat
 def test_abandoned_temp_folders_ignores_files_and_other_names_and_a_missing_parent(tmp_path):
     host = socket.gethostname()
     (tmp_path / f".out.json.{host}.{dead_pid()}.tmp").write_text("a temp *file*, not a folder")
-    (tmp_path / f"cache.{host}.{dead_pid()}.abcd.tmp").mkdir()  # no leading dot: not a temp folder
+    temp_folder(tmp_path / f"cache.{host}.{dead_pid()}.abcd.tmp")  # no leading dot: not a temp folder
     (tmp_path / "results").mkdir()
     assert abandoned_temp_folders(tmp_path) == []
     assert abandoned_temp_folders(tmp_path / "nowhere") == []

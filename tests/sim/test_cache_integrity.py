@@ -11,6 +11,7 @@ import numpy as np
 import pytest
 
 from objsearch.cli import main
+from objsearch.fileio import MARKER_TEXT, TEMP_MARKER
 from objsearch.sim.cache import HouseCache, depth_to_mm, quantize_depth
 from objsearch.sim.cache_folder import check_folder
 from objsearch.sim.camera import RenderSettings
@@ -97,6 +98,7 @@ def test_cache_commands(small_world, tmp_path, capsys):
     dead.wait()
     abandoned = root / f".{cache.directory.name}.{socket.gethostname()}.{dead.pid}.abcd1234.tmp"
     abandoned.mkdir()
+    (abandoned / TEMP_MARKER).write_text(MARKER_TEXT + "a killed build\n")  # as atomic_directory marks it
     (abandoned / "rgb.npy").write_bytes(b"x" * 100)
 
     assert main(["cache", "list", "--cache-dir", str(root)]) == 0
@@ -122,14 +124,18 @@ def test_cache_commands(small_world, tmp_path, capsys):
 
 def test_a_build_removes_temp_folders_of_killed_builds(small_world, tmp_path):
     old = tmp_path / ".train_000001-0123.oldstyle.tmp"  # another host's (or pid-less): by age
-    old.mkdir()
-    os.utime(old, (time.time() - 2 * 86400,) * 2)
     recent = tmp_path / ".train_000001-0123.otherhost.12.abcd.tmp"
-    recent.mkdir()
     running = tmp_path / f".train_000001-0123.{socket.gethostname()}.{os.getpid()}.abcd.tmp"
-    running.mkdir()
+    unmarked = tmp_path / ".mine.tmp"  # a user's folder with a temp folder's name: no marker, never removed
+    for folder in (old, recent, running, unmarked):
+        folder.mkdir()
+        if folder != unmarked:
+            (folder / TEMP_MARKER).write_text(MARKER_TEXT + "a killed build\n")
+    for folder in (old, unmarked):
+        for p in [*folder.iterdir(), folder]:
+            os.utime(p, (time.time() - 2 * 86400,) * 2)
     HouseCache.open(small_world, SMALL, tmp_path, progress=False)
-    assert not old.exists() and recent.exists() and running.exists()
+    assert not old.exists() and recent.exists() and running.exists() and unmarked.exists()
 
 
 BUILD = """
