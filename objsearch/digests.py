@@ -18,15 +18,17 @@ import os
 from pathlib import Path
 
 from objsearch.errors import UserError
-from objsearch.fileio import atomic_write
+from objsearch.fileio import atomic_write, open_regular
 
 SUMS = "SHA256SUMS"
 
 
 def sha256_file(path: str | os.PathLike) -> str:
-    """sha256 of the file at ``path``, as hex (read in 1 MiB blocks)."""
+    """sha256 of the file at ``path``, as hex (read in 1 MiB blocks). Only a regular file is
+    read (``fileio.open_regular``): ``/dev/zero`` or a FIFO given as a checkpoint is a
+    ``UserError``, not an endless read."""
     h = hashlib.sha256()
-    with open(path, "rb") as f:
+    with open_regular(path, "file", fix="give the path of a regular file") as f:
         for block in iter(lambda: f.read(1 << 20), b""):
             h.update(block)
     return h.hexdigest()

@@ -96,6 +96,32 @@ def not_regular(path: str | os.PathLike) -> str | None:
     return None if stat.S_ISREG(mode) else _KINDS.get(stat.S_IFMT(mode), "special file")
 
 
+def open_regular(path: str | os.PathLike, what: str, max_bytes: int | None = None, fix: str = "give a file's path"):
+    """``path`` opened for reading in binary, if it is a regular file (following symlinks) of
+    at most ``max_bytes``: a device (``/dev/zero``), FIFO, socket or folder is refused before a
+    byte is read, and a FIFO without a writer does not block (opened non-blocking, checked with
+    ``fstat``). ``UserError`` naming ``what`` (e.g. "checkpoint"), the path, the limit and ``fix``;
+    a missing file raises ``FileNotFoundError`` as ``open`` does."""
+    from objsearch.errors import UserError
+
+    fd = os.open(path, os.O_RDONLY | getattr(os, "O_NONBLOCK", 0) | getattr(os, "O_CLOEXEC", 0))
+    try:
+        st = os.fstat(fd)
+        if not stat.S_ISREG(st.st_mode):
+            kind = _KINDS.get(stat.S_IFMT(st.st_mode), "special file")
+            raise UserError(f"{what} {path} is a {kind}, not a regular file; {fix}")
+        if max_bytes is not None and st.st_size > max_bytes:
+            raise UserError(
+                f"{what} {path} is {_megabytes(st.st_size)}, above the limit of {_megabytes(max_bytes)}; {fix}"
+            )
+        if hasattr(os, "set_blocking"):
+            os.set_blocking(fd, True)
+        return os.fdopen(fd, "rb")
+    except BaseException:
+        os.close(fd)
+        raise
+
+
 def output_file(path: str | os.PathLike, elsewhere: str = "write elsewhere") -> Path:
     """The file that writing ``path`` replaces: ``path``, or, when ``path`` is a symlink, the
     file it points to (the link stays a link, and points to the new content). Refuses

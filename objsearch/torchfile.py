@@ -21,9 +21,10 @@ import torch
 
 from objsearch import digests
 from objsearch.errors import UserError
-from objsearch.fileio import atomic_write
+from objsearch.fileio import atomic_write, open_regular
 
 _ARRAY = "__ndarray__"
+MAX_BYTES = 8 * 2**30  # a checkpoint read: far above any training state objsearch writes
 
 
 def to_saved(obj):
@@ -63,6 +64,8 @@ def load(path: str | os.PathLike, expected: str):
     says what it should be, for the error message (e.g. "a policy.pt written by objsearch train")."""
     path = Path(path)
     try:
+        with open_regular(path, "checkpoint", MAX_BYTES, f"expected {expected}"):
+            pass  # a regular file within the limit: never a device or FIFO read forever
         digests.verify(path)
         return from_saved(torch.load(path, map_location="cpu", weights_only=True))
     except FileNotFoundError:

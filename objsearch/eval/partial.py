@@ -15,6 +15,20 @@ from objsearch.fileio import atomic_write, full_disk_as_error, full_disk_error
 ELSEWHERE = "choose another --out"
 
 RECORD_KEYS = frozenset(("split", "seed", "episode_id", "success", "steps", "min_steps"))
+_INT = lambda x: isinstance(x, int) and not isinstance(x, bool)  # noqa: E731
+RECORD_TYPES = {
+    "split": lambda x: isinstance(x, str),
+    "seed": _INT,
+    "episode_id": _INT,
+    "success": lambda x: isinstance(x, bool),
+    "steps": lambda x: _INT(x) and x >= 0,
+    "min_steps": lambda x: _INT(x) and x >= 0,
+}
+
+
+def is_record(record) -> bool:
+    """Whether ``record`` is an episode record: a dict with ``RECORD_KEYS`` of their types."""
+    return isinstance(record, dict) and all(k in record and test(record[k]) for k, test in RECORD_TYPES.items())
 
 
 class PartialResults:
@@ -22,8 +36,11 @@ class PartialResults:
 
     The first line is the configuration; a rerun with the same configuration resumes, one
     with another is refused, naming the settings that differ. A last line cut short by an
-    interruption is dropped; any other line that is not an episode record is dropped with a
-    warning (its episode runs again), so that the run stays resumable.
+    interruption is dropped; any other line that is not an episode record (``is_record``:
+    also one whose fields have the wrong types) is dropped with a warning (its episode runs
+    again), so that the run stays resumable. A second line for the same episode is dropped
+    when it is the same record, and refused (``UserError`` naming the episode) when it is not:
+    which outcome is the episode's is not for objsearch to guess.
     """
 
     def __init__(self, path: str | Path, config: EvalConfig):
@@ -50,6 +67,7 @@ class PartialResults:
                     "rerun with those settings to resume it, or delete it or choose another --out to start afresh"
                 )
             rewrite = not text.endswith("\n")  # appending to a cut line would spoil the next record
+            seen: dict = {}  # unit -> (line number, record)
             for number, line in enumerate(lines[1:], start=2):
                 try:
                     record = json.loads(line)
@@ -58,7 +76,7 @@ class PartialResults:
                     if number == len(lines):
                         rewrite = True
                         break  # the write an interruption cut short
-                if not (isinstance(record, dict) and RECORD_KEYS <= record.keys()):
+                if not is_record(record):
                     print(
                         f"warning: {self.path} line {number} is not an episode record ({line[:60]!r}); "
                         "dropped, its episode runs again",
@@ -66,6 +84,18 @@ class PartialResults:
                     )
                     rewrite = True
                     continue
+                unit = (record["split"], record["seed"], record["episode_id"])
+                if unit in seen:
+                    first, other = seen[unit]
+                    if other != record:
+                        raise UserError(
+                            f"{self.path} holds two different records of episode {unit[0]}/seed {unit[1]}/"
+                            f"{unit[2]} (lines {first} and {number}); delete the wrong line (or the file, to "
+                            "play every episode again) and rerun"
+                        )
+                    rewrite = True  # the same record twice: keep one
+                    continue
+                seen[unit] = (number, record)
                 self.records.append(record)
         if rewrite:  # a full disk here leaves the records that were there
             _write(self.path, config, self.records)
@@ -124,6 +154,13 @@ def keep_what_did_not_fail(out: str | Path, config: EvalConfig, plays: list[Eval
         stored, episodes = results["config"], results["episodes"]
     except (OSError, ValueError, KeyError, TypeError) as err:
         raise UserError(f"--retry-failed: {out} is not a results file written by objsearch-eval ({err})") from None
+    bad = next((i for i, r in enumerate(episodes) if not is_record(r)), None) if isinstance(episodes, list) else -1
+    if bad is not None:
+        what = "its 'episodes' is not a list" if bad < 0 else f"episodes[{bad}] is not an episode record"
+        raise UserError(
+            f"--retry-failed: {out} is not a results file written by objsearch-eval ({what}); "
+            "drop --retry-failed to evaluate afresh"
+        )
     if stored != config.to_json():
         raise UserError(
             f"--retry-failed: {out} holds the results of another evaluation ({_differences(stored, config.to_json())}); "

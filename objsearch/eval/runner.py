@@ -68,6 +68,10 @@ def run_units(
             partial.add(records)
         bar.update(len(records))
 
+    # never more workers than episodes, nor more envs a worker than its share: --batch 100000 on
+    # a 2-episode suite builds 2 envs, not 100000 (records are the same for any batch and workers)
+    workers = max(1, min(workers, len(todo)))
+    batch = max(1, min(batch, -(-len(todo) // workers)))
     folder = os.path.abspath(folder or os.getcwd())
     video_units = None if video_units is None else frozenset(video_units)
     try:
