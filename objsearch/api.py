@@ -15,6 +15,7 @@ records and results dict (the JSON ``--out`` writes). These names are exported f
 
 from __future__ import annotations
 
+import numbers
 from pathlib import Path
 from typing import Iterable
 
@@ -61,6 +62,9 @@ def evaluate(
     from objsearch.eval.config import EvalConfig
     from objsearch.eval.runner import evaluate as run
 
+    for name, value in (("batch", batch), ("workers", workers)):
+        if isinstance(value, bool) or not isinstance(value, numbers.Integral) or value < 1:
+            raise UserError(f"{name}={value!r}: give an integer >= 1")
     splits = (split,) if isinstance(split, str) else tuple(split or ())
     if isinstance(agent, str):
         name, instance = agent, None
@@ -78,9 +82,27 @@ def evaluate(
         agent=name,
         suite=suite,
         splits=splits,
-        seeds=tuple(int(s) for s in seeds),
+        seeds=_seeds(seeds),
         checkpoint=checkpoint,
         suite_config=suite_config,
         step_time_limit=step_time_limit,
     )
     return run(config, workers=workers, progress=progress, out=out, batch=batch, agent=instance)
+
+
+def _seeds(seeds) -> tuple[int, ...]:
+    """``seeds`` as a tuple of distinct integers >= 0 (Python or numpy integers), else
+    ``UserError``: ``[1.7, "5"]`` is not silently seeds 1 and 5, as ``--seeds`` refuses it."""
+    from objsearch.errors import UserError
+
+    if isinstance(seeds, (str, bytes)) or not isinstance(seeds, Iterable):
+        raise UserError(f"seeds={seeds!r}: give a list of integers >= 0, e.g. seeds=[1, 5]")
+    out = tuple(seeds)
+    bad = [s for s in out if isinstance(s, bool) or not isinstance(s, numbers.Integral) or s < 0]
+    if bad or not out:
+        raise UserError(
+            f"seeds={list(out)!r}: {bad[0]!r} is not an integer >= 0" if bad else "seeds=[]: give one seed or more"
+        )
+    if len(set(out)) != len(out):
+        raise UserError(f"seeds={list(out)!r}: a seed is given twice (each episode would count twice)")
+    return tuple(int(s) for s in out)

@@ -30,6 +30,12 @@ HARNESS = os.path.dirname(os.path.abspath(__file__)) + os.sep
 TRACEBACK_FRAMES = 8  # the agent's innermost frames kept in a failed episode's record
 
 
+def valid_action(space, action) -> bool:
+    """Whether ``action`` is in the action ``space``: an integer in range, as Gymnasium's
+    ``Discrete`` says, but never a bool (``True`` is no action, though Python counts it as 1)."""
+    return not isinstance(action, (bool, np.bool_)) and bool(space.contains(action))
+
+
 def describe_failure(err: BaseException, step_time_limit: float | None, steps: int) -> tuple[str, str | None]:
     """An agent's failure as its episode's record keeps it: (``error``, ``traceback``: the
     last frames of the agent's own code, without the harness's, or None if there are none)."""
@@ -94,7 +100,7 @@ def run_episode(
         while True:
             with time_limit(step_time_limit):
                 action = agent.act(obs)
-            if not env.action_space.contains(action):
+            if not valid_action(env.action_space, action):
                 raise ValueError(f"invalid action {action!r} for action space {env.action_space}")
             obs, _, terminated, truncated, info = env.step(action)
             steps += 1
@@ -103,7 +109,7 @@ def run_episode(
             if terminated or truncated:
                 success = bool(info["success"])
                 break
-    except Exception as err:  # the agent's failure (StepTimeLimit included) is the episode's, not the run's
+    except (Exception, SystemExit) as err:  # the agent's failure (StepTimeLimit, sys.exit included) is the episode's
         error, trace = describe_failure(err, step_time_limit, steps)
     return episode_record(split, seed, episode, success, steps, error, trace)
 

@@ -24,7 +24,7 @@ from dataclasses import dataclass
 from typing import Any, Callable, Iterator, Sequence
 
 from objsearch.eval.agent import AgentTask, is_batched
-from objsearch.eval.episode import agent_task, describe_failure, episode_record, time_limit
+from objsearch.eval.episode import agent_task, describe_failure, episode_record, time_limit, valid_action
 
 Unit = tuple[str, int, int]
 
@@ -67,7 +67,7 @@ class EnvSlots:
 
     def valid(self, i: int, action) -> bool:
         """Whether ``action`` is in slot ``i``'s action space."""
-        return self.envs[i].action_space.contains(action)
+        return valid_action(self.envs[i].action_space, action)
 
     def step(self, actions: dict[int, Any]) -> dict[int, tuple[Any, bool, bool, dict]]:
         """Step each given slot's env once; returns each slot's (observation, terminated, truncated, info)."""
@@ -142,7 +142,7 @@ def play_lockstep(
         try:
             with time_limit(step_time_limit):
                 return fn(*args), None
-        except Exception as err:  # the agent's failure (StepTimeLimit included) is its episodes', not the run's
+        except (Exception, SystemExit) as err:  # the agent's failure (StepTimeLimit, sys.exit) is its episodes'
             return None, err
 
     def failure(i: int, error: Exception) -> dict:

@@ -125,6 +125,17 @@ class Episode:
     privileged: Any = field(default=None, repr=False, compare=False)
 
 
+def step_limit(value) -> int:
+    """A suite's ``max_steps`` option: an integer >= 1 (a Python or numpy integer, or a float
+    with no fraction), else ``UserError``: ``2.5`` is not silently 2, nor ``True`` 1."""
+    import numbers
+
+    whole = isinstance(value, numbers.Integral) or (isinstance(value, float) and value.is_integer())
+    if isinstance(value, bool) or not whole or value < 1:
+        raise UserError(f"max_steps {value!r}: the step limit is an integer >= 1 (e.g. max_steps=100)")
+    return int(value)
+
+
 def _import(target: str) -> type:
     module_name, _, cls_name = target.partition(":")
     return getattr(importlib.import_module(module_name), cls_name)

@@ -11,7 +11,8 @@ from typing import Any
 import numpy as np
 
 from objsearch.errors import UserError
-from objsearch.eval.suites import Episode
+from objsearch.eval.episode import valid_action
+from objsearch.eval.suites import Episode, step_limit
 from objsearch.gridworld import dataset
 from objsearch.gridworld.batched import BatchedGridWorld, GridTables
 from objsearch.gridworld.env import GridWorldEnv
@@ -61,7 +62,7 @@ class GridWorldSuite:
         if (maps is None) != (tasks is None):
             raise UserError("--maps and --tasks go together: pass a map directory and a task file, or neither")
         self.name = name
-        self.maps_dir, self.tasks_file, self.max_steps = maps, tasks, int(max_steps)
+        self.maps_dir, self.tasks_file, self.max_steps = maps, tasks, step_limit(max_steps)
         if tasks is None:
             self.episode_set_version = dataset.DATA_VERSION
             self.splits = tuple(dataset.SPLIT_GOALS)
@@ -169,7 +170,7 @@ class GridSlots:
         """Whether ``action`` is in slot ``i``'s action space."""
         if type(action) is int:  # what Discrete(n).contains says of a plain int, without its checks
             return 0 <= action < self.num_actions
-        return self.env.action_space.contains(action)
+        return valid_action(self.env.action_space, action)
 
     def start(self, starts: dict[int, tuple[Episode, Any]]) -> dict[int, tuple[dict, dict]]:
         """Reset slots to their episodes' tasks (the seed is not needed: a task fixes the

@@ -23,7 +23,7 @@ from dataclasses import dataclass
 from functools import cached_property
 
 from objsearch.errors import UserError
-from objsearch.eval.suites import Episode
+from objsearch.eval.suites import Episode, step_limit
 from objsearch.house.categories import CATEGORY_IDS
 from objsearch.sim.camera import AGENT_CAMERA, check_predictor_camera
 from objsearch.sim.env import MODES, OBSERVATIONS, HouseEnv, HouseTask
@@ -79,7 +79,7 @@ class HouseSuite:
         self.name, self.data = name, load_suite_file(name)
         self.protocol = suite_protocol(self.data).name
         self.mode, self.cache_dir = mode, cache_dir
-        self.max_steps = int(max_steps or self.data["max_steps"])
+        self.max_steps = step_limit(self.data["max_steps"] if max_steps is None else max_steps)
         self.episode_set_version = self.data["version"]
         self.splits = tuple(self.data["splits"])
         self.observation, self.predictor, self.perception = observation, None, None
