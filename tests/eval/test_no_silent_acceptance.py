@@ -61,3 +61,20 @@ def test_a_step_limit_that_is_not_an_integer_of_at_least_1_is_refused(max_steps)
         make_suite("gridworld", max_steps=max_steps)
     assert make_suite("gridworld", max_steps=np.int64(7)).max_steps == 7
     assert make_suite("gridworld", max_steps=50.0).max_steps == 50
+
+
+@pytest.mark.parametrize(
+    "suite, message",
+    [
+        (object(), "must be a class or a 'module:Class' string"),
+        ("no_such_module_42:Suite", "cannot import no_such_module_42:Suite"),
+        ("objsearch.eval.suites.gridworld:NoSuchSuite", "cannot import"),
+        (dict, "is not a suite class"),
+    ],
+)
+def test_register_suite_refuses_what_is_no_suite_at_once(suite, message):
+    with pytest.raises(UserError, match=message):
+        objsearch.register_suite("not-a-suite-42", suite)
+    from objsearch.eval.suites import SUITES
+
+    assert "not-a-suite-42" not in SUITES

@@ -52,7 +52,7 @@ DEFAULT_SUITE = "house-single"  # what objsearch-eval runs without --suite: the 
 WORLDS = ("gridworld", "house")
 
 
-def register_suite(name: str, suite: type | str) -> None:
+def register_suite(name: str, suite: type | str, *, check: bool = True) -> None:
     """Make ``name`` a suite: ``suite`` is a suite class (see above) or its ``"module:Class"``.
 
     The name then works everywhere a shipped suite's does (``objsearch.evaluate``,
@@ -60,11 +60,26 @@ def register_suite(name: str, suite: type | str) -> None:
     same class is allowed; a name taken by another suite is an error. A package makes its
     suites known to every process, and to the command line, with an entry point in the
     group ``objsearch.suites`` instead."""
+    if not isinstance(suite, (str, type)):
+        raise UserError(f"register_suite: suite {suite!r} for {name!r} must be a class or a 'module:Class' string")
     target = suite if isinstance(suite, str) else f"{suite.__module__}:{suite.__qualname__}"
     if not isinstance(name, str) or not name or name.endswith(".json"):
         raise UserError(f"register_suite: suite name {name!r} must be a non-empty string not ending in .json")
     if ":" not in target:
         raise UserError(f"register_suite: suite {suite!r} for {name!r} must be a class or a 'module:Class' string")
+    if check:  # a caller's own registration is checked now, not at the first episode (entry points stay lazy)
+        try:
+            cls = suite if isinstance(suite, type) else _import(target)
+        except (ImportError, AttributeError) as err:
+            raise UserError(
+                f"register_suite: cannot import {target} for {name!r} ({err}); check the module:Class"
+            ) from None
+        missing = [a for a in ("world", "protocol", "options", "episodes", "make_env", "config") if not hasattr(cls, a)]
+        if not isinstance(cls, type) or missing:
+            raise UserError(
+                f"register_suite: {target} for {name!r} is not a suite class (it lacks {', '.join(missing) or 'a class'}); "
+                "docs/add_a_suite.md lists what a suite provides"
+            )
     if SUITES.get(name, target) != target:
         raise UserError(
             f"register_suite: suite name {name!r} is taken by {SUITES[name]}; register {target} under another name"
@@ -74,7 +89,7 @@ def register_suite(name: str, suite: type | str) -> None:
 
 def _register_installed() -> None:
     for ep in entry_points(group=GROUP):
-        register_suite(ep.name, ep.value)
+        register_suite(ep.name, ep.value, check=False)
 
 
 _register_installed()
