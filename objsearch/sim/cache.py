@@ -40,7 +40,7 @@ import json
 import os
 import weakref
 from pathlib import Path
-from typing import Protocol
+from typing import Callable, Protocol
 
 import numpy as np
 
@@ -162,18 +162,58 @@ class CacheLayers:
 
     def frame(self, name: str, pose: int) -> np.ndarray:
         """A new array holding layer ``name``'s frame of ``pose`` (``depth``: float32 metres),
-        read from the file: the same values as ``getattr(self, name)[pose]``. (The env's
-        every step: kept lean.)"""
-        try:
-            fd, offset, size, shape, dtype = self._files[name]
-        except KeyError:
-            fd, offset, size, shape, dtype = self._files[name] = _open_layer(self.directory / f"{name}.npy")
-        if not 0 <= pose < self._num_poses:
-            raise IndexError(f"pose {pose} is out of range for {self._num_poses} poses ({self.directory})")
-        out = np.empty(shape, dtype)
-        if os.preadv(fd, (out,), offset + pose * size) != size:
-            raise OSError(f"{self.directory / name}.npy: short read (truncated?)")
-        return np.divide(out, _MM, dtype=np.float32) if name == "depth" else out
+        read from the file: the same values as ``getattr(self, name)[pose]``."""
+        return self.reader(name)(pose)
+
+    def reader(self, name: str, recent: int = 0) -> Callable[[int], np.ndarray]:
+        """``frame(name, .)`` as a function bound to the layer's open file: what the env calls
+        each step (one ``pread``, one new array; nothing looked up per call). It holds this
+        object, so the file stays open while the function is kept.
+
+        ``recent`` (depth only): keep the metres of the last ``recent`` poses read (FIFO) and
+        give copies of them: converting millimetres costs several times a copy, and an agent
+        often comes back to a pose it has just left (about half of a random walk's steps)."""
+        if name not in self._files:
+            self._files[name] = _open_layer(self.directory / f"{name}.npy")
+        fd, offset, size, shape, dtype = self._files[name]
+        num_poses, empty, preadv, divide, float32 = self._num_poses, np.empty, os.preadv, np.divide, np.float32
+        layers = self  # the files close when the last holder of this object lets go (no cycle: not stored here)
+
+        def read(pose: int) -> np.ndarray:
+            if not 0 <= pose < num_poses:
+                raise IndexError(f"pose {pose} is out of range for {num_poses} poses ({layers.directory})")
+            out = empty(shape, dtype)
+            if preadv(fd, (out,), offset + pose * size) != size:
+                raise OSError(f"{layers.directory / name}.npy: short read (truncated?)")
+            return out
+
+        if name != "depth":
+            return read
+
+        def read_metres(pose: int) -> np.ndarray:
+            if not 0 <= pose < num_poses:
+                raise IndexError(f"pose {pose} is out of range for {num_poses} poses ({layers.directory})")
+            out = empty(shape, dtype)
+            if preadv(fd, (out,), offset + pose * size) != size:
+                raise OSError(f"{layers.directory / name}.npy: short read (truncated?)")
+            # the bits of np.divide(out, _MM, dtype=float32), whose casting loop is slower
+            metres = out.astype(float32)
+            divide(metres, _MM, out=metres)
+            return metres
+
+        if recent <= 0:
+            return read_metres
+        kept: dict[int, np.ndarray] = {}  # pose -> metres, oldest first
+
+        def read_kept(pose: int) -> np.ndarray:
+            frame = kept.get(pose)
+            if frame is None:
+                frame = kept[pose] = read_metres(pose)
+                if len(kept) > recent:
+                    del kept[next(iter(kept))]
+            return frame.copy()
+
+        return read_kept
 
     def frames(self, name: str, start: int, stop: int) -> np.ndarray:
         """A new array holding layer ``name``'s frames of poses ``start:stop`` (``depth``:

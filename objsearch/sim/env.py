@@ -29,6 +29,9 @@ ENTRANCE_STEPS = 8  # "entrance" starts: at most this many steps from the entran
 
 
 MOVES = (0, 3, 4, 5)  # the actions that translate (ahead, back, left, right); a blocked one sets ``collided``
+# Cached mode keeps the depth (metres) of the poses it last read, up to this many bytes an env
+# (64 poses at 64x64; ``CacheLayers.reader``): a copy costs a fraction of a conversion.
+RECENT_DEPTH_BYTES = 1 << 20
 
 
 def relative_pose(graph: PoseGraph, start, pose) -> np.ndarray:
@@ -43,6 +46,24 @@ def relative_pose(graph: PoseGraph, start, pose) -> np.ndarray:
     return np.stack([c * d[..., 0] + s * d[..., 1], -s * d[..., 0] + c * d[..., 1], heading], axis=-1).astype(
         np.float32
     )
+
+
+# ``relative_pose``'s cos and sin of the 4 start headings and its heading of the 4 turns, computed
+# once by its own numpy expressions: the scalar path below then gives its very bits
+# (tests/sim/test_env_fast_paths.py checks every start heading and turn).
+_COS_SIN = tuple((float(np.cos(h * (np.pi / 2))), float(np.sin(h * (np.pi / 2)))) for h in np.arange(4))
+_TURN_HEADINGS = tuple(float(x) for x in np.where(np.arange(4) == 3, -np.pi / 2, np.arange(4) * (np.pi / 2)))
+
+
+def relative_pose_of(start: tuple[int, int, int], pose: tuple[int, int, int]) -> tuple[float, float, float]:
+    """``relative_pose`` of one pose in Python floats: ``np.float32`` of each is exactly its
+    value. ``start`` and ``pose`` are (row, col, heading) (``PoseGraph.pose_of``); scalar
+    arithmetic in the same order as numpy's, so no tiny arrays are made (the env's every step)."""
+    row0, col0, h0 = start
+    row, col, h = pose
+    c, s = _COS_SIN[h0]
+    dx, dy = (col - col0) * GRID, (row - row0) * GRID
+    return (c * dx + s * dy, -s * dx + c * dy, _TURN_HEADINGS[(h - h0) % 4])
 
 
 def entrance_poses(world: World, steps: int = ENTRANCE_STEPS) -> np.ndarray:
@@ -255,6 +276,7 @@ class HouseEnv(gymnasium.Env):
             }
         )
         self.action_space = spaces.Discrete(NUM_MOVE_ACTIONS + (1 if stop_action else 0))
+        self._num_actions = int(self.action_space.n)  # step's fast check of a Python int
         self._loaded: dict[int, World] = {}  # index in refs -> house
         self._worlds: dict[str, World] = {}  # house id -> house
         self._sources: dict[str, Any] = {}  # live mode: house id -> HouseRenderer
@@ -264,6 +286,8 @@ class HouseEnv(gymnasium.Env):
         self._labels_now = None  # cached mode: the current house's semantic and depth (see _labels)
         self._goals: dict[tuple, np.ndarray] = {}  # (house, target) -> goal pose ids
         self._steps_to: dict[tuple, np.ndarray] = {}  # (house, goal ids) -> steps from every pose
+        self._steps_lists: dict[tuple, list] = {}  # the same as Python lists (step's info)
+        self._read = None  # cached mode: the current house's frame readers (rgb, depth, semantic)
         self._near: dict[str, np.ndarray] = {}  # house id -> entrance_poses (starts="entrance")
         self._world: World | None = None
         self._done = True
@@ -310,10 +334,15 @@ class HouseEnv(gymnasium.Env):
         source = self._source_now
         if self.mode == "cached" and getattr(source, "meta", {}).get("house_id") == world.house_id:
             return  # the same house again (a cache folder is one house's)
-        self._source_now = self._labels_now = None  # released before the next house's are opened
+        self._source_now = self._labels_now = self._read = None  # released before the next house's are opened
         self._steps_to = {key: dist for key, dist in self._steps_to.items() if key[0] == world.house_id}
+        self._steps_lists = {key: dist for key, dist in self._steps_lists.items() if key[0] == world.house_id}
         self._source_now = self._source(world)
-        self._labels_now = self._labels(world) if self.mode == "cached" else None
+        if self.mode == "cached":
+            labels = self._labels_now = self._labels(world)
+            recent = max(1, RECENT_DEPTH_BYTES // (self.settings.width * self.settings.height * 4))
+            read_depth = labels.reader("depth", recent=recent)
+            self._read = (self._source_now.reader("rgb"), read_depth, labels.reader("semantic"))
 
     def goal_pose_ids(self, world: World, target: str) -> np.ndarray:
         """Goal poses of ``target`` by the goal rule (renders the goal camera's cache)."""
@@ -329,6 +358,13 @@ class HouseEnv(gymnasium.Env):
         if key not in self._steps_to:
             self._steps_to[key] = world.graph.shortest_steps(list(key[1]))
         return self._steps_to[key]
+
+    def _steps_list(self, world: World, goal_ids) -> list[int]:
+        """``steps_to`` as a Python list (memoised the same way)."""
+        key = (world.house_id, tuple(int(g) for g in goal_ids))
+        if key not in self._steps_lists:
+            self._steps_lists[key] = self.steps_to(world, goal_ids).tolist()
+        return self._steps_lists[key]
 
     def step_limit(self, world: World) -> int:
         """The step limit of an episode in ``world``: ``max_steps``, or the limit ``room_max_steps``
@@ -379,19 +415,23 @@ class HouseEnv(gymnasium.Env):
         graph = world.graph
         self._world, self._task = world, task
         goal_ids = sorted(graph.pose_id(*g) for g in task.goals)
-        self._goal_mask = np.zeros(graph.num_poses, dtype=bool)
-        self._goal_mask[goal_ids] = True
-        self._dist = self.steps_to(world, goal_ids)
+        self._goal_set = frozenset(goal_ids)
+        self._dist = self._steps_list(world, goal_ids)
         self._pose = self._start_pose = graph.pose_id(*task.start)
         self._collided = 0
-        moves = int(self._dist[self._pose])
+        # step's scalar paths: Python lists and floats, no numpy scalars or tiny arrays
+        self._pose_tuples = graph.pose_tuples
+        row0, col0, h0 = graph.pose_of(self._start_pose)
+        c, s = _COS_SIN[h0]
+        self._origin = (row0, col0, h0, c, s, -s)
+        moves = self._dist[self._pose]
         if moves < 0 or moves + self.stop_action != task.min_steps:
             stop = " and the STOP" if self.stop_action else ""
             found = (
                 "no goal pose is reachable" if moves < 0 else f"{moves + self.stop_action} (moves to the goal{stop})"
             )
             raise ValueError(f"task in {task.house} says {task.min_steps} minimal steps, the pose graph says {found}")
-        self._next = graph.next_pose
+        self._next = graph.next_pose_rows
         self._target_id = CATEGORY_IDS[task.target]
         self._attach(world)
         self._steps, self._done, self._limit = 0, False, self.step_limit(world)
@@ -406,11 +446,13 @@ class HouseEnv(gymnasium.Env):
         """
         if self._done:
             raise RuntimeError("step() called on a finished episode; call reset() first")
-        action = check_action(self.action_space, action, ACTIONS[: self.action_space.n])
-        before, self._pose = self._pose, int(self._next[self._pose, action])
-        self._collided = int(self._pose == before and action in MOVES)
+        if type(action) is not int or not 0 <= action < self._num_actions:  # a Python int in range: as it is
+            action = check_action(self.action_space, action, ACTIONS[: self.action_space.n])
+        before = self._pose
+        pose = self._pose = self._next[before][action]
+        self._collided = int(pose == before and action in MOVES)
         self._steps += 1
-        at_goal = bool(self._goal_mask[self._pose])
+        at_goal = pose in self._goal_set
         success = (action == STOP and at_goal) if self.stop_action else at_goal
         terminated = success or (self.stop_action and action == STOP)
         truncated = not terminated and self._steps >= self._limit
@@ -429,12 +471,13 @@ class HouseEnv(gymnasium.Env):
             if hasattr(source, "close"):
                 source.close()
         self._sources.clear()
-        self._source_now = self._labels_now = None  # a cache is shared: closed when its last user lets go
+        # a cache is shared: closed when its last user lets go
+        self._source_now = self._labels_now = self._read = None
         self._done = True
 
     def __getstate__(self):
         state = dict(self.__dict__)
-        state["_sources"], state["_source_now"], state["_labels_now"] = {}, None, None
+        state["_sources"], state["_source_now"], state["_labels_now"], state["_read"] = {}, None, None, None
         return state
 
     def __setstate__(self, state):
@@ -449,24 +492,26 @@ class HouseEnv(gymnasium.Env):
         return self._world.graph.pose_of(self._pose)
 
     def _observe(self) -> dict[str, Any]:
-        source = self._source_now
-        state = {
-            "target": self._target_id,
-            "pose": relative_pose(self._world.graph, self._start_pose, self._pose),
-            "collided": self._collided,
-        }
+        p = self._pose
+        # relative_pose_of(start, pose), inlined: the env's every step
+        row0, col0, h0, c, s, minus_s = self._origin
+        row, col, h = self._pose_tuples[p]
+        dx, dy = (col - col0) * GRID, (row - row0) * GRID
+        pose = np.array((c * dx + s * dy, minus_s * dx + c * dy, _TURN_HEADINGS[(h - h0) % 4]), np.float32)
         if self.mode == "cached":
-            p = self._pose
-            labels = self._labels_now
+            rgb, depth, semantic = self._read
             # read from the files, not mapped: new arrays (the caller owns what it is given,
             # Gymnasium's contract), and memory does not grow with the poses visited
             return {
-                "rgb": source.frame("rgb", p),
-                "depth": labels.frame("depth", p),
-                "semantic": labels.frame("semantic", p),
-                **state,
+                "rgb": rgb(p),
+                "depth": depth(p),
+                "semantic": semantic(p),
+                "target": self._target_id,
+                "pose": pose,
+                "collided": self._collided,
             }
-        frames = source.render(self._world.graph.world_poses([self._pose]))
+        state = {"target": self._target_id, "pose": pose, "collided": self._collided}
+        frames = self._source_now.render(self._world.graph.world_poses([self._pose]))
         semantic, depth = frames.semantic, frames.depth
         if self.observation == "predicted":
             semantic, depth = self.predictor.predict(frames.rgb)
@@ -478,6 +523,6 @@ class HouseEnv(gymnasium.Env):
             "steps": self._steps,
             "min_steps": self._task.min_steps,
             "house": self._task.house,
-            "pose": self._world.graph.pose_of(self._pose),
-            "steps_to_goal": int(self._dist[self._pose]),
+            "pose": self._pose_tuples[self._pose],
+            "steps_to_goal": self._dist[self._pose],
         }

@@ -72,13 +72,22 @@ def goal_poses(semantic: np.ndarray, depth: np.ndarray, category_id: int, rule: 
     category is never seen."""
     hits = semantic == category_id
     if rule.kind == "top_area":
-        area = hits.reshape(len(hits), -1).sum(axis=1)
+        area = _count_per_frame(hits)
         if not area.any():
             return np.zeros(0, dtype=np.int64)
         threshold = max(1, np.sort(area)[::-1][min(rule.top_k, len(area)) - 1])
         return np.flatnonzero(area >= threshold)
-    near = (hits & (depth <= rule.max_distance)).reshape(len(hits), -1).sum(axis=1)
+    near = _count_per_frame(hits & (depth <= rule.max_distance))
     return np.flatnonzero(near >= rule.min_pixels)
+
+
+def _count_per_frame(mask: np.ndarray) -> np.ndarray:
+    """True pixels of each frame of a bool (P, H, W): the values of ``.sum(axis=(1, 2))``,
+    summed as bytes into the smallest integer that holds a frame's count (several times faster
+    than summing bools, which casts every pixel to int64)."""
+    flat = mask.reshape(len(mask), -1)
+    dtype = np.uint16 if flat.shape[1] <= np.iinfo(np.uint16).max else np.int64
+    return np.add.reduce(flat.view(np.uint8), axis=1, dtype=dtype)
 
 
 @dataclass(frozen=True)
