@@ -23,7 +23,9 @@ class ActorCriticLearner:
         self, net: nn.Module, lr: float, alpha: float, eps: float, max_grad_norm: float, entropy: float, gamma: float
     ):
         self.net = net
-        self.optimizer = torch.optim.RMSprop(net.parameters(), lr=lr, alpha=alpha, eps=eps)
+        self.optimizer = torch.optim.RMSprop(
+            net.parameters(), lr=lr, alpha=alpha, eps=eps, foreach=True
+        )  # foreach: the same numbers as the per-tensor loop, fewer calls (as dqn_learner.Learner)
         self.max_grad_norm, self.entropy, self.gamma = max_grad_norm, entropy, gamma
 
     def returns(self, rewards: np.ndarray, dones: np.ndarray, bootstrap: np.ndarray) -> np.ndarray:

@@ -15,7 +15,7 @@ from objsearch.house.categories import CATEGORY_IDS
 from objsearch.house.rooms import ROOM_TYPES
 from objsearch.sim.cache import HouseCache, PredictedCache, Predictor, quantize_depth
 from objsearch.sim.camera import AGENT_CAMERA, RenderSettings, check_predictor_camera
-from objsearch.sim.goals import DEFAULT_RULE, GOAL_CAMERA, GoalRule, goal_poses
+from objsearch.sim.goals import DEFAULT_RULE, GOAL_CAMERA, GoalRule, goal_poses_of
 from objsearch.sim.navgraph import ACTIONS, GRID, NUM_MOVE_ACTIONS, STOP, PoseGraph
 from objsearch.sim.world import HouseRef, World
 
@@ -349,7 +349,11 @@ class HouseEnv(gymnasium.Env):
         key = (world.house_id, target)
         if key not in self._goals:
             cache = HouseCache.open(world, GOAL_CAMERA, self.cache_dir)  # shared; let go after
-            self._goals[key] = goal_poses(cache.semantic, cache.depth, CATEGORY_IDS[target], self.goal_rule)
+            # every category of the house at once (one pass over the frames): the others are asked for next
+            names = sorted({o.category for o in world.spec.objects} | {target})
+            found = goal_poses_of(cache.semantic, cache.depth, [CATEGORY_IDS[c] for c in names], self.goal_rule)
+            for name in names:
+                self._goals[(world.house_id, name)] = found[CATEGORY_IDS[name]]
         return self._goals[key]
 
     def steps_to(self, world: World, goal_ids) -> np.ndarray:

@@ -72,13 +72,30 @@ def goal_poses(semantic: np.ndarray, depth: np.ndarray, category_id: int, rule: 
     category is never seen."""
     hits = semantic == category_id
     if rule.kind == "top_area":
-        area = _count_per_frame(hits)
-        if not area.any():
-            return np.zeros(0, dtype=np.int64)
-        threshold = max(1, np.sort(area)[::-1][min(rule.top_k, len(area)) - 1])
-        return np.flatnonzero(area >= threshold)
+        return _top_area(_count_per_frame(hits), rule.top_k)
     near = _count_per_frame(hits & (depth <= rule.max_distance))
     return np.flatnonzero(near >= rule.min_pixels)
+
+
+def goal_poses_of(
+    semantic: np.ndarray, depth: np.ndarray, category_ids, rule: GoalRule = DEFAULT_RULE
+) -> dict[int, np.ndarray]:
+    """``goal_poses`` of several categories, {category id: pose ids}. With ``top_area``, every
+    frame's pixels are counted once for all categories (one pass over the frames, not one a
+    category): the same poses."""
+    category_ids = [int(c) for c in category_ids]
+    if rule.kind != "top_area" or len(category_ids) < 2:
+        return {c: goal_poses(semantic, depth, c, rule) for c in category_ids}
+    areas = np.stack([np.bincount(frame, minlength=256) for frame in semantic.reshape(len(semantic), -1)])
+    return {c: _top_area(areas[:, c], rule.top_k) for c in category_ids}
+
+
+def _top_area(area: np.ndarray, top_k: int) -> np.ndarray:
+    """The ``top_area`` goal poses given every pose's target area (pixels)."""
+    if not area.any():
+        return np.zeros(0, dtype=np.int64)
+    threshold = max(1, np.sort(area)[::-1][min(top_k, len(area)) - 1])
+    return np.flatnonzero(area >= threshold)
 
 
 def _count_per_frame(mask: np.ndarray) -> np.ndarray:

@@ -12,7 +12,7 @@ from objsearch.house.categories import CATEGORY_IDS
 from objsearch.sim.cache import _MM, CacheLayers, HouseCache
 from objsearch.sim.camera import AGENT_CAMERA
 from objsearch.sim.env import MOVES, HouseEnv, relative_pose, relative_pose_of
-from objsearch.sim.goals import GOAL_CAMERA, GoalRule, goal_poses
+from objsearch.sim.goals import GOAL_CAMERA, GoalRule, goal_poses, goal_poses_of
 from objsearch.sim.navgraph import NUM_MOVE_ACTIONS, STOP, _backward_bfs
 
 
@@ -69,7 +69,12 @@ def test_fast_bfs_and_goal_counts_match_the_reference(graph, small_world, cache_
     cache = HouseCache.open(small_world, GOAL_CAMERA, cache_dir, progress=False)
     semantic, depth = cache.semantic, np.asarray(cache.depth)
     rules = (GoalRule(), GoalRule(top_k=1), GoalRule(kind="near_visible"))
-    for cid in sorted({CATEGORY_IDS[o.category] for o in small_world.spec.objects}) + [0, 255]:
+    cids = sorted({CATEGORY_IDS[o.category] for o in small_world.spec.objects}) + [0, 255]
+    for rule in rules:  # all categories at once (one pass over the frames with top_area): the same poses
+        found = goal_poses_of(semantic, depth, cids, rule)
+        assert list(found) == cids
+        assert all(same_bits(found[cid], goal_poses(semantic, depth, cid, rule)) for cid in cids), rule
+    for cid in cids:
         hits = semantic == cid
         area = hits.reshape(len(hits), -1).sum(axis=1)  # the sums goal_poses took before
         near = (hits & (depth <= 1.0)).reshape(len(hits), -1).sum(axis=1)
