@@ -20,6 +20,7 @@ from __future__ import annotations
 
 import torch
 from torch import nn
+from torch.nn.functional import linear
 
 from objsearch_agents.house.tables import HISTORY, SIZE
 
@@ -49,10 +50,22 @@ class TwoStream(nn.Module):
         self.embed = nn.Linear(2 * HIDDEN + extra, HIDDEN)
 
     def forward(self, mask: torch.Tensor, depth: torch.Tensor, extra: torch.Tensor | None = None) -> torch.Tensor:
-        parts = [torch.relu(self.mask(mask.flatten(1))), torch.relu(self.depth(depth.flatten(1)))]
+        # the layers' own computation (``nn.Linear.forward`` is ``linear``), without a module call
+        # each: the networks are small, and every acting step and update runs them (no hooks are used)
+        m, d, e = self.mask, self.depth, self.embed
+        parts = [
+            torch.relu(linear(mask.flatten(1), m.weight, m.bias)),
+            torch.relu(linear(depth.flatten(1), d.weight, d.bias)),
+        ]
         if extra is not None:
             parts.append(extra)
-        return torch.relu(self.embed(torch.cat(parts, dim=1)))
+        return torch.relu(linear(torch.cat(parts, dim=1), e.weight, e.bias))
+
+
+def head(branch: nn.Sequential, h: torch.Tensor) -> torch.Tensor:
+    """``branch(h)`` of a Linear, ReLU, Linear branch, without the module calls."""
+    first, _, last = branch
+    return linear(torch.relu(linear(h, first.weight, first.bias)), last.weight, last.bias)
 
 
 class ActorCritic(nn.Module):
@@ -66,8 +79,8 @@ class ActorCritic(nn.Module):
         glorot(self)
 
     def forward(self, mask: torch.Tensor, depth: torch.Tensor) -> tuple[torch.Tensor, torch.Tensor]:
-        h = self.body(mask, depth)
-        return self.policy(h), self.value(h)[:, 0]
+        h = self.body.forward(mask, depth)
+        return head(self.policy, h), head(self.value, h)[:, 0]
 
 
 class CandidateQ(nn.Module):
@@ -80,7 +93,7 @@ class CandidateQ(nn.Module):
         glorot(self)
 
     def forward(self, mask: torch.Tensor, depth: torch.Tensor) -> torch.Tensor:
-        return self.out(self.body(mask, depth))[:, 0]
+        return linear(self.body.forward(mask, depth), self.out.weight, self.out.bias)[:, 0]
 
 
 class CategoryQ(nn.Module):
@@ -101,4 +114,4 @@ class CategoryQ(nn.Module):
     ) -> torch.Tensor:
         w = self.pixel.weight[0][categories]  # (N, 4, M)
         seg = (masks * w[..., None, None]).sum(dim=2) + self.pixel.bias  # (N, 4, 10, 10)
-        return self.out(self.body(seg, depth, target))
+        return linear(self.body.forward(seg, depth, target), self.out.weight, self.out.bias)
