@@ -435,7 +435,7 @@ class HouseEnv(gymnasium.Env):
                 "no goal pose is reachable" if moves < 0 else f"{moves + self.stop_action} (moves to the goal{stop})"
             )
             raise ValueError(f"task in {task.house} says {task.min_steps} minimal steps, the pose graph says {found}")
-        self._next = graph.next_pose_rows
+        self._next, self._stride = graph.next_pose_flat, graph.next_pose.shape[1]
         self._target_id = CATEGORY_IDS[task.target]
         self._attach(world)
         self._steps, self._done, self._limit = 0, False, self.step_limit(world)
@@ -453,7 +453,7 @@ class HouseEnv(gymnasium.Env):
         if type(action) is not int or not 0 <= action < self._num_actions:  # a Python int in range: as it is
             action = check_action(self.action_space, action, ACTIONS[: self.action_space.n])
         before = self._pose
-        pose = self._pose = self._next[before][action]
+        pose = self._pose = self._next[before * self._stride + action]
         self._collided = int(pose == before and action in MOVES)
         self._steps += 1
         at_goal = pose in self._goal_set

@@ -17,6 +17,7 @@ Actions (the paper's six, in its order, plus an optional STOP):
 
 from __future__ import annotations
 
+from array import array
 from dataclasses import dataclass
 from functools import cached_property
 
@@ -74,10 +75,11 @@ class PoseGraph:
         return [(int(r), int(c), h) for r, c in self.cells.tolist() for h in range(4)]
 
     @cached_property
-    def next_pose_rows(self) -> list[list[int]]:
-        """``next_pose`` as Python lists, ``next_pose_rows[pose][action]``: the env's per-step
-        transition without a numpy scalar."""
-        return self.next_pose.tolist()
+    def next_pose_flat(self) -> array:
+        """``next_pose`` row by row in an ``array('i')``, ``next_pose_flat[pose * len(ACTIONS) +
+        action]``: the env's per-step transition as a Python int, without a numpy scalar (4 bytes
+        an entry, where Python lists of ints would take ten times that)."""
+        return _int_array(self.next_pose)
 
     def world_poses(self, pose_ids=None) -> np.ndarray:
         """(N, 3) world (x, y, yaw) of poses (default: all), for the renderer."""
@@ -92,11 +94,11 @@ class PoseGraph:
         ``_backward_bfs(next_pose[:, :NUM_MOVE_ACTIONS], goal_poses)``, walked in Python over
         each pose's predecessors, which visits every move once (several times faster than a
         vectorised pass over all poses per distance on a house's few thousand poses)."""
-        predecessors = self.move_predecessors
-        start = np.zeros(len(predecessors), dtype=bool)
+        bounds, sources = self.move_predecessors
+        start = np.zeros(self.num_poses, dtype=bool)
         start[np.asarray(goal_poses, dtype=np.int64)] = True
         frontier = np.flatnonzero(start).tolist()
-        dist = [-1] * len(predecessors)
+        dist = [-1] * self.num_poses
         for pose in frontier:
             dist[pose] = 0
         d = 0
@@ -104,7 +106,7 @@ class PoseGraph:
             d += 1
             reached = []
             for pose in frontier:
-                for before in predecessors[pose]:
+                for before in sources[bounds[pose] : bounds[pose + 1]]:
                     if dist[before] < 0:
                         dist[before] = d
                         reached.append(before)
@@ -112,14 +114,14 @@ class PoseGraph:
         return np.array(dist, dtype=np.int32)
 
     @cached_property
-    def move_predecessors(self) -> list[list[int]]:
-        """For every pose, the poses from which one of the 6 moves leads to it (repeats and
-        the pose itself included: harmless to a BFS)."""
+    def move_predecessors(self) -> tuple[array, array]:
+        """(bounds, sources): the poses from which one of the 6 moves leads to pose p are
+        ``sources[bounds[p]:bounds[p + 1]]`` (repeats and p itself included: harmless to a
+        BFS), in ``array('i')``s."""
         moves = self.next_pose[:, :NUM_MOVE_ACTIONS]
-        sources = np.repeat(np.arange(len(moves)), moves.shape[1])
-        order = np.argsort(moves.ravel(), kind="stable")
-        bounds = np.cumsum(np.bincount(moves.ravel(), minlength=len(moves)))[:-1]
-        return [part.tolist() for part in np.split(sources[order], bounds)]
+        sources = np.repeat(np.arange(len(moves)), moves.shape[1])[np.argsort(moves.ravel(), kind="stable")]
+        bounds = np.concatenate([[0], np.cumsum(np.bincount(moves.ravel(), minlength=len(moves)))])
+        return _int_array(bounds), _int_array(sources)
 
     def shortest_path(self, start: int, goal_poses) -> list[int]:
         """Actions of one shortest path from ``start`` to the goal set (ties: lowest action)."""
@@ -147,6 +149,13 @@ class PoseGraph:
         steps = _backward_bfs(cell_moves, np.asarray(goal_poses) // 4)
         metres = np.where(steps < 0, np.inf, steps * GRID)
         return np.repeat(metres, 4)
+
+
+def _int_array(values: np.ndarray) -> array:
+    """``values`` flattened into an ``array('i')`` (C int: 32 bits)."""
+    out = array("i")
+    out.frombytes(np.ascontiguousarray(values, dtype=np.dtype(f"i{out.itemsize}")).tobytes())
+    return out
 
 
 def _backward_bfs(transitions: np.ndarray, targets) -> np.ndarray:
