@@ -84,10 +84,14 @@ def goal_poses_of(
     frame's pixels are counted once for all categories (one pass over the frames, not one a
     category): the same poses."""
     category_ids = [int(c) for c in category_ids]
-    if rule.kind != "top_area" or len(category_ids) < 2:
+    semantic = np.asarray(semantic)
+    if rule.kind != "top_area" or len(category_ids) < 2 or semantic.dtype != np.uint8:
         return {c: goal_poses(semantic, depth, c, rule) for c in category_ids}
     areas = np.stack([np.bincount(frame, minlength=256) for frame in semantic.reshape(len(semantic), -1)])
-    return {c: _top_area(areas[:, c], rule.top_k) for c in category_ids}
+    return {
+        c: _top_area(areas[:, c], rule.top_k) if 0 <= c < areas.shape[1] else goal_poses(semantic, depth, c, rule)
+        for c in category_ids
+    }
 
 
 def _top_area(area: np.ndarray, top_k: int) -> np.ndarray:

@@ -69,7 +69,7 @@ def test_fast_bfs_and_goal_counts_match_the_reference(graph, small_world, cache_
     cache = HouseCache.open(small_world, GOAL_CAMERA, cache_dir, progress=False)
     semantic, depth = cache.semantic, np.asarray(cache.depth)
     rules = (GoalRule(), GoalRule(top_k=1), GoalRule(kind="near_visible"))
-    cids = sorted({CATEGORY_IDS[o.category] for o in small_world.spec.objects}) + [0, 255]
+    cids = sorted({CATEGORY_IDS[o.category] for o in small_world.spec.objects}) + [0, 255, 300, -1]
     for rule in rules:  # all categories at once (one pass over the frames with top_area): the same poses
         found = goal_poses_of(semantic, depth, cids, rule)
         assert list(found) == cids
