@@ -20,8 +20,8 @@ builds are removed when a build starts (``fileio.abandoned_temp_folders``).
 Memory: a process opens each cache folder once (``open_layers``: every env of a batched
 evaluation that plays the house shares it) and lets go of it when its last user does (the
 env holds only the house in play). The env reads each step's frames from the files
-(``CacheLayers.frame``, ``pread``): nothing is mapped, so memory does not grow with the
-poses or houses visited; whole layers (``.rgb``, ``.depth``, ``.semantic``) are
+(``CacheLayers.reader``, ``pread``): nothing is mapped, so memory does not grow with the
+poses or houses visited (an env keeps the depth of its last 64 poses read: 1 MB); whole layers (``.rgb``, ``.depth``, ``.semantic``) are
 memory-mapped on first use, for gathers over many poses (training, goal poses).
 
 Depth is rounded to the millimetre in both modes (``quantize_depth``), so live and cached
