@@ -41,7 +41,8 @@ bench: $(STAMP)
 # Re-evaluate the shipped agents on every suite with the paper's seeds and store them on
 # the leaderboard (house suites render their observation caches first: minutes).
 LEADERBOARD_AGENTS ?= random oracle
-LEADERBOARD_SUITES ?= gridworld house-single house-multi house-gen house-gen-v2 house-single-v2 house-multi-v2 house-gen-v2-objectnav house-gen-v2-shuffled rooms
+LEADERBOARD_SUITES ?= gridworld house-single house-multi house-gen house-gen-v2 house-single-v2 house-multi-v2 house-gen-v2-objectnav house-gen-v2-shuffled rooms \
+	house-large house-large-roomwise house-large-shuffled
 # shipped checkpoints; the *_greedy agents play the same checkpoints greedily (epsilon 0)
 LEADERBOARD_GRID_AGENTS ?= dqn hdqn hrl_grg hrl_grg_no_relation hrl_grg_no_termination hrl_grg_no_high_level \
 	dqn_greedy hdqn_greedy hrl_grg_greedy
@@ -52,7 +53,9 @@ LEADERBOARD_HOUSE ?= house-single:a3c house-single:dqn house-single:hrl_grg hous
 	house-multi:a3c house-multi:dqn house-multi:hdqn house-multi:hrl_grg house-multi:hrl_grg_explorer \
 	house-gen:a3c house-gen:dqn house-gen:hrl_grg_explorer house-gen-v2:a3c house-gen-v2:hrl_grg house-gen-v2:hrl_grg_explorer \
 	house-gen-v2-shuffled:a3c house-gen-v2-shuffled:hrl_grg rooms:a3c rooms:hrl_grg rooms:scene_priors rooms:random \
-	house-gen-v2:grg_frontier house-gen-v2-shuffled:grg_frontier
+	house-gen-v2:grg_frontier house-gen-v2-shuffled:grg_frontier \
+	house-large:room_prior_frontier house-large-roomwise:room_prior_frontier house-large-shuffled:room_prior_frontier \
+	house-large:object_prior_frontier house-large-roomwise:object_prior_frontier house-large-shuffled:object_prior_frontier
 # house agents also trained on predicted observations (agents/checkpoints/SUITE/AGENT/predicted/, the paper's
 # setting), evaluated on predicted observations as entry AGENT_predicted_trained
 LEADERBOARD_HOUSE_TRAINED_PREDICTED ?= house-single:a3c house-single:hrl_grg_explorer

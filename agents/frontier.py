@@ -296,15 +296,25 @@ class SlotState:
             cells.append(ij)
             headings.append(np.full(len(ij), k))
         cells, headings = np.concatenate(cells), np.concatenate(headings)
+        cost = dist[cells[:, 0], cells[:, 1]] + turns(heading, headings)
+        if len(cells):
+            cost = self.frontier_cost(cells + lo, cost)
+        extra = self.extra_goals(dist, lo, heading)
+        if extra is not None:
+            cells, headings, cost = (np.concatenate(pair) for pair in zip((cells, headings, cost), extra))
         if not len(cells):
             return None
-        cost = dist[cells[:, 0], cells[:, 1]] + turns(heading, headings)
-        return self._best(cells, headings, self.frontier_cost(cells + lo, cost), lo)
+        return self._best(cells, headings, cost, lo)
 
     def frontier_cost(self, cells: np.ndarray, cost: np.ndarray) -> np.ndarray:
         """What choosing each frontier pose costs (``cells``: map coordinates, ``cost``: steps to
         it); the cheapest is explored. A hook: ``grg_frontier`` takes off a relation bonus."""
         return cost
+
+    def extra_goals(self, dist: np.ndarray, lo, heading: int) -> tuple | None:
+        """Poses to weigh beside the frontier poses: (cells (box coordinates), headings, costs), or
+        None. A hook: ``object_prior_frontier`` adds close views of furniture the target stands by."""
+        return None
 
     def _approach(self, dist, lo, heading: int, share: float):
         """The cheapest unvisited pose whose view of the target voxels scores at least ``share``

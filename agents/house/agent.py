@@ -37,7 +37,7 @@ ROOT = CHECKPOINTS.parent.parent  # the checkout: shipped configs name their inp
 
 # generator version -> the suite whose checkpoints were trained for unseen houses of that generator
 # (its training houses, evaluated on other houses of the generator)
-GENERALISATION_SUITES = {"house-gen-1": "house-gen", "house-gen-2": "house-gen-v2"}
+GENERALISATION_SUITES = {"house-gen-1": "house-gen", "house-gen-2": "house-gen-v2", "house-gen-3": "house-large"}
 
 
 def default_checkpoint(suite: str, name: str) -> Path | None:

@@ -95,6 +95,23 @@ def difference_ci(a: Sequence[dict], b: Sequence[dict], measure) -> list[float]:
     return _interval(bootstrap_stats(a, measure) - bootstrap_stats(b, measure, seed=BOOTSTRAP_SEED + 1))
 
 
+def paired_difference_ci(a: Sequence[dict], b: Sequence[dict], measure) -> list[float]:
+    """95% percentile bootstrap interval of ``measure(a) - measure(b)`` for records of the same
+    tasks (one agent on two suites with the same episodes, or two agents on one suite): the
+    tasks (split and episode id, with all their seeds) are resampled together, so what the
+    two share cancels. Single training runs; ``ValueError`` if the tasks differ."""
+    tasks_a, tasks_b = defaultdict(list), defaultdict(list)
+    for records, tasks in ((a, tasks_a), (b, tasks_b)):
+        for r in records:
+            tasks[(r["split"], r["episode_id"])].append(r)
+    if set(tasks_a) != set(tasks_b):
+        raise ValueError("paired_difference_ci needs records of the same tasks")
+    keys = sorted(tasks_a)
+    diff = np.array([measure(tasks_a[k]) - measure(tasks_b[k]) for k in keys])
+    picks = np.random.default_rng(BOOTSTRAP_SEED).integers(len(keys), size=(BOOTSTRAP_SAMPLES, len(keys)))
+    return _interval(diff[picks].mean(axis=1))
+
+
 def _round(value):
     return None if value is None else round(float(value), 4)
 

@@ -12,7 +12,7 @@ kitchen, living_room, bedroom or bathroom each, sized and furnished by ``house-g
 rules, without doors, with more small objects (``OUT/<split>_<type>_<seed>/``).
 
 ``--generator house-gen-3`` builds large houses (9-14 rooms, 150-250 m^2, a long corridor,
-repeated bedrooms and bathrooms, small objects at most twice each); ``--rooms N`` (4-14) fixes
+repeated bedrooms and bathrooms, each small target at most once); ``--rooms N`` (4-14) fixes
 the number of rooms, the tier's size knob.
 
 ``--placement shuffled`` builds the same houses (floorplan, rooms, objects) with every object

@@ -9,15 +9,13 @@ paper_tables.md show the full submissions only."""
 from __future__ import annotations
 
 import contextlib
-import html
 import json
-import re
 from importlib.resources import files
 from pathlib import Path
 
 from objsearch.errors import UserError
-from objsearch.eval.metrics import difference_ci, spl, success_rate
 from objsearch.fileio import atomic_write
+from objsearch.leaderboard.markdown import markdown_text
 from objsearch.leaderboard.paper import (
     GREEDY_SUFFIX,
     GRIDWORLD_SPLITS,
@@ -31,6 +29,14 @@ from objsearch.leaderboard.paper import (
     paper_gridworld,
     paper_house3d,
     paper_rows,
+)
+from objsearch.leaderboard.relations import (
+    breakdown_rows,
+    gain_rows,
+    relations_rows,
+    render_breakdown,
+    render_gains,
+    render_relations,
 )
 from objsearch.leaderboard.table4 import ordering_cells, render_ordering, render_table4, table4_rows
 
@@ -132,14 +138,6 @@ def leaderboard_rows(submissions: list[tuple[str, dict]], partial: bool = False)
 
 def _num(value) -> str:
     return "–" if value is None else f"{value:.2f}"
-
-
-def markdown_text(text) -> str:
-    """``text`` as it must go into a Markdown table cell or heading to show as itself: HTML
-    tags and entities escaped, line breaks as spaces, and the characters that end a cell or
-    start markup (``\\ ` * [ ] |``) backslash-escaped."""
-    text = html.escape(" ".join(str(text).splitlines()), quote=False)
-    return re.sub(r"([\\`*\[\]|])", r"\\\1", text)
 
 
 def _markdown_row(rank, r: dict) -> str:
@@ -245,7 +243,16 @@ def render_paper_tables(submissions: list[tuple[str, dict]], relations: list[dic
     if table4:
         table4 += render_ordering(ordering_cells(submissions))
     return (
-        "\n".join(lines + _table3(submissions) + table4 + _beyond_the_paper(submissions) + _relations(relations)) + "\n"
+        "\n".join(
+            lines
+            + _table3(submissions)
+            + table4
+            + _beyond_the_paper(submissions)
+            + render_relations(relations)
+            + render_gains(gain_rows(submissions))
+            + render_breakdown(breakdown_rows(submissions))
+        )
+        + "\n"
     )
 
 
@@ -349,62 +356,6 @@ def _beyond_the_paper(submissions: list[tuple[str, dict]]) -> list[str]:
     return lines
 
 
-# "Does it use relations?": each agent on a suite and on the same houses with objects placed at random.
-RELATIONS_SUITES = ("house-gen-v2", "house-gen-v2-shuffled")
-RELATIONS_SPLITS = ("test-seen", "test-unseen")
-RELATIONS_ORDER = ("random", "oracle", "frontier", "grg_frontier", "a3c", "hrl_grg")
-
-
-def relations_rows(submissions: list[tuple[str, dict]]) -> list[dict]:
-    """For every gt entry stored on both ``RELATIONS_SUITES``, per test split: SR and SPL on each
-    and the drop from the first to the second, with its 95% bootstrap interval."""
-    functional, shuffled = ({n: r for n, r in submissions if r["suite"] == suite} for suite in RELATIONS_SUITES)
-    names = [n for n in functional if n in shuffled and observation_label(functional[n]) == "gt"]
-    names.sort(key=lambda n: (RELATIONS_ORDER.index(n) if n in RELATIONS_ORDER else len(RELATIONS_ORDER), n))
-    rows = []
-    for name in names:
-        for split in RELATIONS_SPLITS:
-            a, b = (
-                [r for r in results["episodes"] if r["split"] == split]
-                for results in (functional[name], shuffled[name])
-            )
-            if not a or not b:
-                continue
-            row = {"name": name, "split": split, "runs": runs_label(training(functional[name])[0])}
-            for key, measure in (("sr", success_rate), ("spl", spl)):
-                row[key] = [measure(a), measure(b)]
-                row[key + "_drop"] = measure(a) - measure(b)
-                row[key + "_drop_ci"] = difference_ci(a, b, measure)
-            rows.append(row)
-    return rows
-
-
-def _relations(rows: list[dict]) -> list[str]:
-    if not rows:
-        return []
-    lines = [
-        "",
-        "## Does it use relations? house-gen-v2 against house-gen-v2-shuffled",
-        "",
-        "The same floorplans, rooms and objects, but in `house-gen-v2-shuffled` every object stands at a random",
-        "valid place anywhere in the house (`objsearch generate --placement shuffled`): a toilet may be in the",
-        "kitchen. An agent that uses where things usually are should lose more there than a pure explorer.",
-        "*drop*: house-gen-v2 minus shuffled, with its 95% bootstrap interval (tasks, and training runs where",
-        "there are several); an interval that holds 0 is no measured drop. gt observations, seeds 1, 5, 13, 45, 99.",
-        "",
-        "| Method | runs | split | SR | SR shuffled | SR drop (95% CI) | SPL | SPL shuffled | SPL drop (95% CI) |",
-        "|---|---|---|---|---|---|---|---|---|",
-    ]
-    for r in rows:
-        cells = [
-            f"{_num(r[k][0])} | {_num(r[k][1])} | {r[k + '_drop']:+.2f} ({r[k + '_drop_ci'][0]:+.2f} to {r[k + '_drop_ci'][1]:+.2f})"
-            for k in ("sr", "spl")
-        ]
-        name = PAPER_NAMES.get(r["name"], markdown_text(r["name"]))
-        lines.append(f"| {name} | {r['runs']} | {r['split']} | " + " | ".join(cells) + " |")
-    return lines
-
-
 # The page around the data: HTML, CSS and JS in a file of its own, shipped with the package.
 # Its one placeholder is a bare word, not string.Template's $name or str.format's {name}: the
 # JS uses ${...} template literals and the CSS and JS braces throughout.
@@ -476,7 +427,7 @@ def render(root: str | Path, add: tuple[Path, dict] | None = None, store: dict[P
     tables = leaderboard_rows(submissions)
     full = [(name, results) for name, results in submissions if not results.get("partial")]
     texts[root / "README.md"] = render_markdown(tables, leaderboard_rows(submissions, partial=True))
-    relations = relations_rows(full)
+    relations = relations_rows(full, lambda results: runs_label(training(results)[0]))
     texts[root / "index.html"] = render_html(tables, relations)
     texts[root / "paper_tables.md"] = render_paper_tables(full, relations)
     readme = project_readme(root)

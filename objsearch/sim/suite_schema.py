@@ -81,10 +81,15 @@ _EPISODE = {
             "description": "the minimal actions to succeed: moves to the nearest goal pose (+1 for STOP under "
             "objectnav)",
         },
+        "geodesic": {
+            "type": "number",
+            "minimum": 0,
+            "description": "metres walked from the start to the nearest goal pose (optional; results by distance)",
+        },
     },
     "required": ["house", "start", "target", "min_steps"],
     "additionalProperties": False,
-    "description": "an episode: {house, start, target, min_steps}",
+    "description": "an episode: {house, start, target, min_steps[, geodesic]}",
 }
 _NAMES = {"type": "array", "items": {"type": "string"}, "uniqueItems": True, "description": "a list of category names"}
 SCHEMA = {

@@ -34,7 +34,14 @@ regenerates the houses and refuses to run if a hash differs.
   splits ``seen-env-seen-goals``, ``seen-env-unseen-goals``, ``unseen-env-seen-goals``,
   ``unseen-env-unseen-goals`` (``objsearch.sim.rooms_suite``, docs/rooms.md).
 
-Episodes (all but ``rooms``): 100 per split, house and target drawn uniformly, the start uniformly among poses
+* ``house-large``, ``house-large-roomwise``, ``house-large-shuffled`` (the large-house tier,
+  ``docs/large_houses.md``): ``house-gen-3`` houses of 9-14 rooms, small targets (a cup, a
+  book, soap, ...) once per house, the ObjectNav protocol with 500 steps and a goal rule for
+  small objects, starts at least 8 m and 2 rooms from the target; the same houses, starts and
+  targets with objects placed functionally, within room types, or anywhere
+  (``objsearch.sim.large_suite``); splits ``val`` and ``test``.
+
+Episodes (all but ``rooms`` and the large tier): 100 per split, house and target drawn uniformly, the start uniformly among poses
 6 to 40 minimal steps from the nearest goal pose (``START_STEPS``); 1000 steps at most (the
 paper's protocol).
 Rebuild (deliberately; bump the version): ``objsearch suite rebuild NAME``. How the files
@@ -87,8 +94,9 @@ class ShippedSuite:
             holds only for this content. A deliberate rebuild (``objsearch suite rebuild NAME``
             prints it) bumps the version and this.
         recipe: how its houses and episodes are drawn: ``house-single``, ``house-multi`` or
-            ``house-gen`` (``suite_build``), ``rooms`` (``rooms_suite``); None for a suite made
-            from another one (below), which follows that one's.
+            ``house-gen`` (``suite_build``), ``rooms`` (``rooms_suite``), ``house-large``
+            (``large_suite``: the three placements of the large-house tier, drawn together);
+            None for a suite made from another one (below), which follows that one's.
         generator: its houses' generator; None: ``house-gen-1``, left out of the file's house
             entries so that the v1 files keep their bytes.
         objectnav_of: the paper-protocol suite whose houses, targets, splits and starts it
@@ -146,6 +154,24 @@ SHIPPED = (
         "b0e6e724a75149bd9eb59d49d1f87e346c98f50c0f27d1ad502adaca7739fb9e",
         recipe="rooms",
         generator="house-gen-2",
+    ),
+    ShippedSuite(
+        "house-large",
+        "c36b9773ccd55599fe64d6df3c6ecab830b219cedbc1859f511aa523fb0b7a8d",
+        recipe="house-large",
+        generator="house-gen-3",
+    ),
+    ShippedSuite(
+        "house-large-roomwise",
+        "6f3ae5e331b99ced3001dac9f13672b5a73aa395d0202c7376e3571952fdd401",
+        recipe="house-large",
+        generator="house-gen-3",
+    ),
+    ShippedSuite(
+        "house-large-shuffled",
+        "6003765b2504d0bc422dc87b540bdccc899e11dd023a63bcddbee87163135a71",
+        recipe="house-large",
+        generator="house-gen-3",
     ),
 )
 SHIPPED_SUITES = {suite.name: suite for suite in SHIPPED}

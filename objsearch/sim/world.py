@@ -14,10 +14,11 @@ from functools import cached_property
 from pathlib import Path
 
 import mujoco
+import numpy as np
 
 from objsearch.errors import UserError
 from objsearch.house.spec import HouseSpec
-from objsearch.sim.navgraph import PoseGraph, build_pose_graph
+from objsearch.sim.navgraph import GRID, PoseGraph, build_pose_graph
 
 
 def spec_hash(spec: HouseSpec) -> str:
@@ -121,3 +122,15 @@ class World:
     def graph(self) -> PoseGraph:
         """The house's pose graph, built from the spec on first use."""
         return build_pose_graph(self.spec)
+
+    @cached_property
+    def cell_rooms(self) -> np.ndarray:
+        """The room id of every free cell of ``graph`` (int (P // 4,); -1 for a cell in no room,
+        e.g. in a doorway): pose ``p`` stands in room ``cell_rooms[p // 4]``."""
+        graph = self.graph
+        xy = (graph.cells[:, ::-1] + 0.5) * GRID
+        rooms = np.full(len(xy), -1, dtype=np.int64)
+        for room in self.spec.rooms:
+            inside = np.array([room.contains(float(x), float(y)) for x, y in xy], dtype=bool)
+            rooms[inside & (rooms < 0)] = room.id
+        return rooms

@@ -77,3 +77,21 @@ def test_summarize_rejects_empty():
     with pytest.raises(ValueError):
         summarize([])
     assert math.isnan(success_rate([]))
+
+
+def test_paired_difference_interval_cancels_what_the_pair_shares():
+    """Two agents on the same 40 tasks: B fails 10 tasks A solves, and both solve or fail the
+    other 30 together. The paired interval varies only with the 10 that differ (it stays above
+    zero); the unpaired one, which resamples the two sets independently, is wider."""
+    from objsearch.eval.metrics import difference_ci, paired_difference_ci
+
+    solved = [i % 2 == 0 for i in range(40)]  # the tasks both solve (half of them)
+    a = [{"split": "test", "episode_id": i, "seed": 1, "success": s or i < 20} for i, s in enumerate(solved)]
+    b = [{"split": "test", "episode_id": i, "seed": 1, "success": s} for i, s in enumerate(solved)]
+    lo, hi = paired_difference_ci(a, b, success_rate)
+    assert 0.1 < lo < 0.25 < hi < 0.45
+    assert paired_difference_ci(a, a, success_rate) == [0.0, 0.0]
+    ulo, uhi = difference_ci(a, b, success_rate)
+    assert uhi - ulo > hi - lo
+    with pytest.raises(ValueError, match="same tasks"):
+        paired_difference_ci(a, b[:-1], success_rate)

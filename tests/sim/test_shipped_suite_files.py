@@ -24,6 +24,15 @@ SHIPPED = {
         "e8eeb214527e78badcfec1a9396ee6acdff65bd48a1a73083ec237274d76e021",
     ),
     "rooms": ("rooms-v1", "31f17d636bcc4269124a39e7a887c21753d1f368f3ba5f9a55e70fe5f7ccc0ce"),
+    "house-large": ("house-large-v1", "9b0fdee91158a25af1e2fe975d1e7d61a47fee4d63161cd26eaaafc9d27a490c"),
+    "house-large-roomwise": (
+        "house-large-roomwise-v1",
+        "b07ae5916c9bf5edf441dcb097393d4837bf0b635f0cc1b75858ed168340d631",
+    ),
+    "house-large-shuffled": (
+        "house-large-shuffled-v1",
+        "5d7013bd46bddca11c7e06de08f18fb3fd96622ac661fb2faf43577118a3d094",
+    ),
 }
 
 

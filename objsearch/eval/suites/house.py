@@ -35,12 +35,14 @@ from objsearch.sim.world import World
 
 @dataclass(frozen=True)
 class HousePath:
-    """The oracle's view of a house episode: the pose graph, the goal poses, and whether
-    success needs STOP."""
+    """The oracle's view of a house episode: the pose graph, the goal poses, whether success
+    needs STOP, and the house itself (``world``: its spec, rooms and objects), which
+    privileged calibration agents read (``objsearch_agents.room_frontier``)."""
 
     graph: PoseGraph
     task: HouseTask
     stop: bool = False
+    world: World | None = None
 
     def shortest_path(self) -> list[int]:
         """A shortest action sequence from the task's start pose to success: to its nearest
@@ -127,7 +129,9 @@ class HouseSuite:
                     goal_name=task.target,
                     min_steps=task.min_steps,
                     describe=task.to_json(),
-                    privileged=HousePath(self.worlds[task.house].graph, task, suite_protocol(self.data).stop),
+                    privileged=HousePath(
+                        self.worlds[task.house].graph, task, suite_protocol(self.data).stop, self.worlds[task.house]
+                    ),
                 )
             )
         return out

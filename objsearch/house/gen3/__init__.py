@@ -5,7 +5,7 @@ furniture and fill), run with a room program for 4 to 14 rooms that repeats room
 (2-5 bedrooms, 2-3 bathrooms, 1-2 offices from 9 rooms on), a private band as long as the
 house needs (so large houses have a long corridor with rooms on both sides), and small
 objects kept rare: at most ``MAX_TARGET_INSTANCES`` of each of the ``SMALL_TARGETS`` per
-house, so that a small target is in one or two places and must be searched for.
+house (one), so that a small target is in one place and must be searched for.
 
 Size classes (``stages.ROOM_COUNT_CLASSES``): ``xlarge`` (the default, 9-14 rooms drawn per
 house) and ``rooms-4`` ... ``rooms-14`` (``objsearch generate --rooms N``), the size knob of

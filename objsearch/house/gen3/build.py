@@ -67,7 +67,7 @@ SMALL_TARGETS = (
     "toilet_paper",
     "vase",
 )
-MAX_TARGET_INSTANCES = 2
+MAX_TARGET_INSTANCES = 1
 
 
 def default_size_class(seed: int) -> str:
