@@ -113,7 +113,7 @@ def _fmt(value, spec=".2f") -> str:
 def format_table(results: dict) -> str:
     """The results as a text table laid out like the paper's Table 1: one column group per
     split with SR, AS / MS and SPL, then rows with the 95% intervals and the spread (std)
-    over seeds; a footer (suite, seeds, episodes) and the ``TABLE_LEGEND`` last."""
+    over seeds (``n/a`` for one seed); a footer (suite, seeds, episodes) and the ``TABLE_LEGEND`` last."""
     splits = results["splits"].values()
     sr_w, as_w, spl_w = 6, 16, 11
 
@@ -122,6 +122,9 @@ def format_table(results: dict) -> str:
 
     def interval(ci) -> str:
         return f"{_fmt(ci[0])}-{_fmt(ci[1])}"
+
+    def spread(std) -> str:  # a spread over one seed is not 0: there is none
+        return "n/a" if len(results["seeds"]) < 2 else _fmt(std)
 
     group = sr_w + as_w + spl_w
     lines = [
@@ -135,7 +138,10 @@ def format_table(results: dict) -> str:
             ),
         ),
         row("  95% CI", (f"{interval(s['sr_ci']):<{sr_w + as_w}}{interval(s['spl_ci']):<{spl_w}}" for s in splits)),
-        row("  std/seeds", (f"{_fmt(s['sr_std']):<{sr_w + as_w}}{_fmt(s['spl_std']):<{spl_w}}" for s in splits)),
+        row(
+            "  std/seeds",
+            (f"{spread(s['sr_std']):<{sr_w + as_w}}{spread(s['spl_std']):<{spl_w}}" for s in splits),
+        ),
     ]
     runs = results.get("training_runs", [])
     if len(runs) > 1:

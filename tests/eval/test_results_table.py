@@ -38,3 +38,11 @@ def test_the_legend_explains_std_over_runs_when_the_table_has_it():
     table = format_table(results(records, runs))
     assert "\n  std/runs " in table and "std/runs:" in table.splitlines()[-1]
     assert "std/runs" not in format_table(results(RECORDS))
+
+
+def test_the_spread_over_one_seed_is_not_a_number():
+    one = [r for r in RECORDS if r["seed"] == 1]
+    line = next(x for x in format_table({**results(one), "seeds": [1]}).splitlines() if "std/seeds" in x)
+    assert line.split("|")[1].split() == ["n/a", "n/a"]  # not "0.00": one seed has no spread
+    line = next(x for x in format_table(results(RECORDS)).splitlines() if "std/seeds" in x)
+    assert "n/a" not in line
