@@ -10,6 +10,7 @@ from __future__ import annotations
 from pathlib import Path
 
 from objsearch.errors import UserError
+from objsearch.eval.registry import is_privileged
 from objsearch.leaderboard.paper import TRAINING_FREE
 from objsearch.leaderboard.render import observation_label, training
 
@@ -22,6 +23,9 @@ HEADLINE_AGENTS = (
     "random",
     "frontier",
     "grg_frontier",
+    "inspect_frontier",
+    "room_prior_frontier",
+    "object_prior_frontier",
     "dqn",
     "a3c",
     "hdqn",
@@ -29,8 +33,13 @@ HEADLINE_AGENTS = (
     "hrl_grg",
     "hrl_grg_explorer",
 )
-# (title, {suite: its splits shown}): the houses' splits of unseen goals, houses or instances; the grid world's test maps.
+# (title, {suite: its splits shown}): the large-house tier's test split in its three placements; the houses'
+# splits of unseen goals, houses or instances; the grid world's test maps.
 HEADLINE_TABLES = (
+    (
+        "Large houses, small targets: does knowing where things go help? ([docs](docs/large_houses.md))",
+        {"house-large": ("test",), "house-large-roomwise": ("test",), "house-large-shuffled": ("test",)},
+    ),
     (
         "Houses",
         {
@@ -67,7 +76,12 @@ def _legend(shown: list[tuple[dict, dict]]) -> str:
     free = ", ".join(f"`{name}`" for name in TRAINING_FREE)
     return (
         f"SR / SPL, ground-truth observations, {protocol}; {free} are training-free. "
-        "×N: the mean of N training runs; every other learned agent is one run. –: not evaluated. "
+        + (
+            "*privileged*: reads ground truth beyond its observations (a bound, never ranked). "
+            if any(is_privileged(r["agent"]) for r in entries)
+            else ""
+        )
+        + "×N: the mean of N training runs; every other learned agent is one run. –: not evaluated. "
         f"95% intervals ({widths}), predicted observations and every other entry: "
         "[the leaderboard](leaderboard/README.md); beside the paper: [paper tables](leaderboard/paper_tables.md)."
     )
@@ -101,7 +115,11 @@ def headline_tables(submissions: list[tuple[str, dict]]) -> str:
                 cells.append(_cell(results, split))
                 if results is not None and split in results["splits"]:
                     shown.append((results, results["splits"][split]))
-            lines.append(f"| `{agent}` | " + " | ".join(cells) + " |")
+            privileged = is_privileged(agent) or any(
+                is_privileged(entries[suite, agent]["agent"]) for suite in suites if (suite, agent) in entries
+            )
+            label = f"`{agent}`" + (" (privileged)" if privileged else "")
+            lines.append(f"| {label} | " + " | ".join(cells) + " |")
         lines.append("")
     if not shown:
         return "No results are stored yet (`objsearch leaderboard add`).\n"

@@ -1,0 +1,56 @@
+"""The large-house tier's three suite files: the same houses, starts and targets under three
+placements, and starts that are far from the target in every one (checked against the houses
+regenerated from their seeds, not against the file's own numbers)."""
+
+import numpy as np
+import pytest
+
+from objsearch.house.gen3.build import MAX_TARGET_INSTANCES, SMALL_TARGETS
+from objsearch.sim.large_suite import MIN_GEODESIC, MIN_ROOM_HOPS, PLACEMENTS, room_hops
+from objsearch.sim.suites import load_suite_file
+from objsearch.sim.world import HouseRef, World
+
+SUITES = {name: load_suite_file(name) for name in PLACEMENTS}
+
+
+def test_the_three_suites_play_the_same_episodes_in_the_same_houses():
+    base = SUITES["house-large"]
+    assert base["protocol"] == "objectnav" and base["max_steps"] == 500
+    assert base["goal_rule"]["kind"] == "near_visible" and base["goal_rule"]["min_pixels"] == 5
+    assert set(base["categories"]["targets"]) <= set(SMALL_TARGETS)
+    assert len(base["training_houses"]) == 60 and len(base["houses"]) == 15
+    assert {k: len(v) for k, v in base["splits"].items()} == {"val": 100, "test": 200}
+    for name, placement in PLACEMENTS.items():
+        suite = SUITES[name]
+        assert suite["houses"].keys() == base["houses"].keys()
+        for house, info in suite["houses"].items():
+            assert info["seed"] == base["houses"][house]["seed"] and info["generator"] == "house-gen-3"
+            assert info.get("placement", "functional") == placement
+        for split, episodes in suite["splits"].items():
+            same = [(e["house"], e["start"], e["target"]) for e in episodes]
+            assert same == [(e["house"], e["start"], e["target"]) for e in base["splits"][split]]
+    # the objects moved: the goal poses of a target differ between placements
+    house = next(iter(base["goals"]))
+    target = next(iter(base["goals"][house]))
+    assert SUITES["house-large-shuffled"]["goals"][house].get(target) != base["goals"][house][target]
+
+
+@pytest.mark.parametrize("name", list(PLACEMENTS))
+def test_starts_are_far_from_the_target_in_walking_and_in_rooms(name):
+    suite = SUITES[name]
+    houses = sorted(suite["houses"])[:2]
+    for house in houses:
+        world = World.load(HouseRef(**suite["houses"][house]))
+        graph, spec = world.graph, world.spec
+        hops = room_hops(spec)
+        for episode in (e for e in suite["splits"]["test"] if e["house"] == house):
+            target = episode["target"]
+            holders = [o.room for o in spec.objects if o.category == target]
+            assert 1 <= len(holders) <= MAX_TARGET_INSTANCES
+            goals = [graph.pose_id(*g) for g in suite["goals"][house][target]]
+            start = graph.pose_id(*episode["start"])
+            assert episode["min_steps"] == int(graph.shortest_steps(goals)[start]) + 1  # the STOP
+            metres = graph.geodesic_distance(start, goals)
+            assert metres >= MIN_GEODESIC and np.isclose(metres, episode["geodesic"])
+            room = int(world.cell_rooms[start // 4])
+            assert room >= 0 and all(hops[room, h] >= MIN_ROOM_HOPS for h in holders)
