@@ -10,6 +10,10 @@ from objsearch.eval.agent import OneSlotBatch
 class OracleAgent(OneSlotBatch):
     """Shortest-path actions from the suite's ground truth."""
 
+    # it reads the shortest path, not only its observations: marked and never ranked
+    # (objsearch.eval.registry.is_privileged)
+    privileged = True
+
     # the batched form: one plan per slot
     def start_batch(self, num_slots: int) -> None:
         self._plans: list[list] = [[] for _ in range(num_slots)]

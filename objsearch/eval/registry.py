@@ -11,6 +11,7 @@ that folder (``folder``) so that they build the same agent.
 from __future__ import annotations
 
 import difflib
+import functools
 import hashlib
 import importlib
 import importlib.util
@@ -123,6 +124,37 @@ def resolve_agent(spec: str, folder: str | None = None) -> type:
     if not (callable(getattr(cls, "reset", None)) and callable(getattr(cls, "act", None))):
         raise UserError(f"agent {spec!r} ({cls!r}) has no reset(task) and act(observation) methods")
     return cls
+
+
+@functools.cache
+def is_privileged(spec: str) -> bool:
+    """Whether ``spec`` (as a results file records its agent) is a registered agent, by its
+    name or its registered ``module:Class``, whose class declares ``privileged = True``: it
+    reads ground truth beyond its observations (the oracle's shortest path, the rooms that
+    hold the target), so its results are shown marked and never ranked.
+
+    The one place that decides it. Only registered agents are imported (installed code, as
+    ``objsearch-eval --agent NAME`` runs it); a file agent or an unregistered module is never
+    imported here, so rendering a leaderboard runs no code that a submission names, and such
+    an agent counts as not privileged (``docs/failure_modes.md``: what verify does not prove)."""
+    agents = registered_agents()
+    target = agents.get(spec) or (spec if spec in agents.values() else None)
+    if target is None:
+        return False
+    try:
+        cls = _import_target(target, f"agent {spec!r}")
+    except (ImportError, UserError):  # a broken installed package: it cannot be replayed either
+        return False
+    return getattr(cls, "privileged", False) is True
+
+
+def agent_label(spec: str) -> str:
+    """The agent of a results file as the leaderboard shows it: a registered name or
+    ``module:Class`` as recorded, a file agent as its file's name and class (``my_agent.py:Agent``)."""
+    if not is_file_spec(spec):
+        return spec
+    module, _, attr = spec.rpartition(":")
+    return f"{Path(module).name}:{attr}"
 
 
 def check_supports(spec: str, cls: type, suite: str) -> None:
