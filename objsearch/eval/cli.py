@@ -63,6 +63,13 @@ def configure(parser: argparse.ArgumentParser) -> argparse.ArgumentParser:
         help=f"episodes each worker plays in lockstep (batched agents decide for all in one call); "
         f"the same results for any N (default: {DEFAULT_BATCH})",
     )
+    parser.add_argument(
+        "--episodes",
+        type=positive_int,
+        metavar="N",
+        help="a quick look: play only the first N episodes of each split; the results are marked partial "
+        "and the leaderboard refuses them (default: every episode)",
+    )
     parser.add_argument("--checkpoint", help="checkpoint passed to the agent's load()")
     parser.add_argument(
         "--training-run",
@@ -184,6 +191,7 @@ def run(args: argparse.Namespace) -> int:
         training_run=args.training_run,
         suite_config=suite_config(args),
         step_time_limit=args.step_time_limit or None,
+        episodes=args.episodes,
     )
     results = evaluate(
         config,

@@ -27,6 +27,9 @@ class EvalConfig:
             or for several training runs (each run's is in the results' ``training_runs``).
         training_run: the training seed of the one shipped training run to evaluate
             (``--training-run``; ``objsearch.eval.runs``); None: every run.
+        episodes: play only the first this many episodes of each split (``--episodes``, a
+            quick look: the results are marked partial and the leaderboard refuses them);
+            None: every episode.
     """
 
     agent: str
@@ -38,11 +41,14 @@ class EvalConfig:
     step_time_limit: float | None = 10.0
     weights_sha256: str | None = None
     training_run: int | None = None
+    episodes: int | None = None
 
     def to_json(self) -> dict:
-        """The fields as a JSON-ready dict (tuples as lists; ``training_run`` only when set)."""
+        """The fields as a JSON-ready dict (tuples as lists; ``training_run`` and ``episodes``
+        only when set)."""
         out = asdict(self)
         out["splits"], out["seeds"] = list(self.splits), list(self.seeds)
-        if self.training_run is None:
-            del out["training_run"]
+        for key in ("training_run", "episodes"):
+            if out[key] is None:
+                del out[key]
         return out

@@ -25,6 +25,9 @@ weights.
 A failed episode's record also has ``error`` (the message) and, if the agent's own code
 raised it, ``traceback`` (its last frames).
 
+``partial`` (true) marks the results of ``--episodes N`` (``config.episodes``: the first N
+episodes of each split only), which the leaderboard refuses.
+
 ``protocol`` is the suite's (``paper`` or ``objectnav``: whether success needs STOP); results
 written before it existed are ``paper``.
 """
@@ -79,6 +82,8 @@ def build_results(config, suite, records: list[dict], runs: list = ()) -> dict:
         "config": config.to_json(),
         "splits": {split: summarize([r for r in records if r["split"] == split]) for split in config.splits},
     }
+    if config.episodes is not None:  # a quick look at the first episodes: never a result for the board
+        results["partial"] = True
     if runs:
         tagged = len(runs) > 1
         results["training_runs"] = [
@@ -166,6 +171,11 @@ def format_table(results: dict) -> str:
         )
     elif runs or results["config"].get("training_run") is not None:
         footer += "; one training run"
+    if results["config"].get("episodes") is not None:
+        footer += (
+            f"; partial: the first {results['config']['episodes']} episodes of each split only (--episodes), "
+            "not a result the leaderboard takes"
+        )
     perception = results["config"].get("suite_config", {}).get("perception_key")
     if perception:
         footer += f"; predicted observations (perception network {perception})"

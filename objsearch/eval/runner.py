@@ -91,9 +91,12 @@ def run_units(
     return [finished[u] for u in units]
 
 
-def plan_units(suite, splits: list[str], seeds: tuple[int, ...]) -> list[Unit]:
-    """Every (split, seed, episode_id), in report order."""
-    return [(split, seed, ep.episode_id) for split in splits for seed in seeds for ep in suite.episodes(split)]
+def plan_units(suite, splits: list[str], seeds: tuple[int, ...], episodes: int | None = None) -> list[Unit]:
+    """Every (split, seed, episode_id), in report order; with ``episodes``, only the first
+    that many episodes of each split (``--episodes``)."""
+    return [
+        (split, seed, ep.episode_id) for split in splits for seed in seeds for ep in suite.episodes(split)[:episodes]
+    ]
 
 
 def video_units_of(suite, splits: list[str], seeds: tuple[int, ...], episodes: int) -> list[Unit]:
@@ -190,7 +193,7 @@ def evaluate(
         partial = PartialResults(partial_paths[i], play) if out else None
         videos = video_dir if i == 0 else None  # one run's pictures: the first's
         try:
-            units = plan_units(suite, splits, config.seeds)
+            units = plan_units(suite, splits, config.seeds, config.episodes)
             video_units = video_units_of(suite, splits, config.seeds, video_episodes) if videos else None
             played = run_units(
                 play, units, workers, executor, address, partial, progress, videos, batch, folder, video_units, agent

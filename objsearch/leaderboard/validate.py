@@ -3,7 +3,8 @@
 A submission passes when its fields have the types of a results JSON, its schema version
 is known, its suite and episode-set version are the benchmark's own, it covers every split
 of the suite with the standard seeds (``STANDARD_SEEDS``) unless it is marked partial
-(``"partial": true``, set by ``objsearch leaderboard add --partial``), every episode of its
+(``"partial": true``, set by ``objsearch leaderboard add --partial``; the results of
+``objsearch-eval --episodes N``, the first N episodes only, are refused), every episode of its
 splits and seeds is present exactly once, none ended in an agent error, each matches the
 suite's episode, and its summary equals the one recomputed from its records.
 
@@ -235,6 +236,7 @@ CONFIG_FIELDS = {
     "step_time_limit": (*_OPT_NUMBER, False),
     "weights_sha256": (*_SHA256, False),
     "training_run": (*_SEED, False),
+    "episodes": ((lambda x: x is None or (_is_int(x) and x > 0)), "a positive integer or null", False),
 }
 RUN_FIELDS = {  # an entry of training_runs (objsearch.eval.runs.run_entry)
     "seed": (*_SEED, True),
@@ -327,6 +329,11 @@ def check_submission(results: dict) -> list[str]:
     problems = type_problems(results)
     if problems:
         return problems
+    if results["config"].get("episodes") is not None:
+        return [
+            f"played only the first {results['config']['episodes']} episodes of each split (objsearch-eval "
+            "--episodes): a quick look, not a result; evaluate without --episodes to add it"
+        ]
     if results["schema_version"] != SCHEMA_VERSION:
         return [f"schema_version {results['schema_version']!r} is not the supported {SCHEMA_VERSION}"]
     suite_name = results["suite"]

@@ -40,6 +40,7 @@ def a_config_unlike_the_defaults(checkpoint) -> ConfigWithANewField:
         suite_config={"max_steps": 77},
         step_time_limit=3.5,
         weights_sha256="a stale digest",
+        episodes=4,
         new_field="kept",
     )
     config = ConfigWithANewField(**values)
