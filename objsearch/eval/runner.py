@@ -45,6 +45,7 @@ def run_units(
     folder: str | None = None,
     video_units: Iterable[Unit] | None = None,
     agent=None,
+    bar=None,
 ) -> list[dict]:
     """Run (split, seed, episode_id) units and return their records in the units' order.
 
@@ -52,14 +53,18 @@ def run_units(
     ``batch`` > 1 each worker plays that many episodes in lockstep. ``folder``: where the
     agent's module or file is also looked for (default: the current folder). With
     ``video_dir``, the units of ``video_units`` (None: every unit) get pictures there.
-    ``agent``: an agent object to play in this process instead of building ``config.agent``."""
+    ``agent``: an agent object to play in this process instead of building ``config.agent``.
+    ``bar``: a progress bar that already counts these units (``evaluate``'s over every
+    training run) to advance, left open; None: one of their own."""
     if executor not in EXECUTORS:
         raise UserError(f"unknown executor {executor!r}; choose one of {', '.join(EXECUTORS)}")
     finished = {(r["split"], r["seed"], r["episode_id"]): r for r in (partial.records if partial else [])}
     todo = [u for u in units if u not in finished]
     if partial and len(todo) < len(units):
         print(f"resuming: {len(units) - len(todo)} of {len(units)} episodes done in {partial.path}", file=sys.stderr)
-    bar = progress_bar(len(units), f"{config.agent} on {config.suite}", "ep", progress, len(units) - len(todo))
+    own_bar = bar is None
+    if own_bar:
+        bar = progress_bar(len(units), f"{config.agent} on {config.suite}", "ep", progress, len(units) - len(todo))
 
     def done(records: list[dict]) -> None:
         for r in records:
@@ -87,7 +92,8 @@ def run_units(
             what = f"{kept} of {len(units)} episodes played, none saved (pass --out to keep them)"
         raise type(err)(what) from None
     finally:
-        bar.close()
+        if own_bar:
+            bar.close()
     return [finished[u] for u in units]
 
 
@@ -188,20 +194,41 @@ def evaluate(
         failed = keep_what_did_not_fail(out, config if several else plays[0], plays, partial_paths)
         if failed >= 0:
             print(f"--retry-failed: playing the {failed} failed episode(s) of {out} again", file=sys.stderr)
-    records = []
-    for i, play in enumerate(plays):
-        partial = PartialResults(partial_paths[i], play) if out else None
-        videos = video_dir if i == 0 else None  # one run's pictures: the first's
-        try:
-            units = plan_units(suite, splits, config.seeds, config.episodes)
+    units = plan_units(suite, splits, config.seeds, config.episodes)
+    records, partials, bar = [], [], None
+    label = lambda i: f"{config.agent} on {config.suite}, run {i + 1}/{len(plays)}"  # noqa: E731
+    try:
+        partials = [PartialResults(path, play) if out else None for path, play in zip(partial_paths, plays)]
+        if several:  # one bar over every run: its ETA is the whole evaluation's, its label says which run plays
+            done = sum(len(set(units) & p.done_units()) for p in partials if p)
+            bar = progress_bar(len(units) * len(plays), label(0), "ep", progress, done)
+        for i, (play, partial) in enumerate(zip(plays, partials)):
+            if bar is not None and i:
+                bar.set_description_str(label(i))  # a line in a log: this run starts
+            videos = video_dir if i == 0 else None  # one run's pictures: the first's
             video_units = video_units_of(suite, splits, config.seeds, video_episodes) if videos else None
             played = run_units(
-                play, units, workers, executor, address, partial, progress, videos, batch, folder, video_units, agent
+                play,
+                units,
+                workers,
+                executor,
+                address,
+                partial,
+                progress,
+                videos,
+                batch,
+                folder,
+                video_units,
+                agent,
+                bar,
             )
-        finally:
+            records += [{**r, "training_run": play.training_run} for r in played] if several else played
+    finally:
+        if bar is not None:
+            bar.close()
+        for partial in partials:
             if partial:
                 partial.close()
-        records += [{**r, "training_run": play.training_run} for r in played] if several else played
     results = build_results(config if several else plays[0], suite, records, list(zip(runs, plays)))
     if out:
         write_json(out, results, elsewhere="choose another --out")
