@@ -11,7 +11,9 @@ Schema (``schema_version`` 1)::
       "config": {agent, suite, splits, seeds, checkpoint, suite_config},
       "splits": {"seen-goals": {"sr", "spl", "as", "ms", "episodes", "sr_ci", "spl_ci",
                                 "sr_std", "spl_std", "per_seed", "per_goal"}, ...},
-      "training_runs": [{"seed", "weights_sha256", "env_steps", "wall_s", "splits"}, ...],
+      "loaded_checkpoint": "<the checkpoint the agent loaded, if known>",
+      "training_runs": [{"seed", "weights_sha256", "env_steps", "wall_s", "splits",
+                         "loaded_checkpoint" (several runs)}, ...],
       "episodes": [{"split", "seed", "episode_id", "goal", "success", "steps",
                     "min_steps", "spl", "task"}, ...]
     }
@@ -57,11 +59,13 @@ def git_commit() -> str | None:
     return out.stdout.strip() if out.returncode == 0 else None
 
 
-def build_results(config, suite, records: list[dict], runs: list = ()) -> dict:
+def build_results(config, suite, records: list[dict], runs: list = (), loaded: list = ()) -> dict:
     """The results dict of a run: agent, suite, versions, git commit, seeds, config, per-split
     summaries, records; with ``runs`` ((``TrainingRun``, its ``EvalConfig``) pairs, the agent's
     training runs that were played), ``training_runs``: each run's seed, weights, cost and
-    per-split summaries.
+    per-split summaries. ``loaded``: the checkpoint each play loaded (None: none known), in
+    the order of ``runs`` when there are several (each run's ``loaded_checkpoint``), else one
+    (the results' ``loaded_checkpoint``).
 
     Adds each record's ``spl`` (rounded to 4 places) in place.
     """
@@ -82,10 +86,12 @@ def build_results(config, suite, records: list[dict], runs: list = ()) -> dict:
         "config": config.to_json(),
         "splits": {split: summarize([r for r in records if r["split"] == split]) for split in config.splits},
     }
+    tagged = len(runs) > 1
+    if loaded and not tagged and loaded[0] is not None:
+        results["loaded_checkpoint"] = str(loaded[0])
     if config.episodes is not None:  # a quick look at the first episodes: never a result for the board
         results["partial"] = True
     if runs:
-        tagged = len(runs) > 1
         results["training_runs"] = [
             run_entry(
                 run,
@@ -96,8 +102,9 @@ def build_results(config, suite, records: list[dict], runs: list = ()) -> dict:
                     )
                     for split in config.splits
                 },
+                loaded[i] if tagged and i < len(loaded) else None,
             )
-            for run, played in runs
+            for i, (run, played) in enumerate(runs)
         ]
     results["episodes"] = records
     return results

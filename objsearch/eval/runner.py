@@ -154,6 +154,8 @@ def evaluate(
     that cannot be written are refused before the first episode. ``agent``: an agent object
     to play (in this process, ``workers`` 1) instead of building ``config.agent``, which then
     only names it in the results; it is played as it is (no checkpoint or training runs).
+    The checkpoint each play loads is printed when the agent or its training run chose it, and
+    recorded (``loaded_checkpoint``: in the results, or in each of several ``training_runs``).
     ``retry_failed``: ``out`` is the results file of a finished run of the same configuration;
     its episodes that ended in an agent error are played again, the others kept.
     """
@@ -182,10 +184,16 @@ def evaluate(
     runs = training_runs(config, folder) if agent is None else []
     several = len(runs) > 1
     plays = [run_config(config, run) for run in runs] if several else [config]
+    loaded = []  # the checkpoint each play loads, as chosen (by the agent, or its training run) or given
     for i, play in enumerate(plays):  # fail fast, before any worker starts
         built = agent if agent is not None else agent_of(play, folder)
         check_perception(built, suite)
         plays[i] = replace(play, weights_sha256=getattr(built, "weights_sha256", None))
+        listed = runs[i].checkpoint if len(runs) == len(plays) else None
+        loaded.append(None if agent is not None else getattr(built, "loaded_from", None) or listed or play.checkpoint)
+        if loaded[i] is not None and config.checkpoint is None:  # chosen for the user: say which
+            run = f" (training run {runs[i].seed}, {i + 1} of {len(plays)})" if several else ""
+            print(f"{config.agent} on {config.suite}: checkpoint {loaded[i]}{run}", file=sys.stderr)
         del built
     partial_paths = [
         f"{out}.run{play.training_run}.partial.jsonl" if several else f"{out}.partial.jsonl" for play in plays
@@ -229,7 +237,7 @@ def evaluate(
         for partial in partials:
             if partial:
                 partial.close()
-    results = build_results(config if several else plays[0], suite, records, list(zip(runs, plays)))
+    results = build_results(config if several else plays[0], suite, records, list(zip(runs, plays)), loaded)
     if out:
         write_json(out, results, elsewhere="choose another --out")
         for path in partial_paths:

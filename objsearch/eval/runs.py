@@ -59,12 +59,16 @@ def agent_of(config: EvalConfig, folder: str | None = None):
     return make_agent(config.agent, checkpoint, config.suite, folder)
 
 
-def run_entry(run: TrainingRun, weights_sha256: str | None, splits: dict) -> dict:
-    """A run's entry in the results' ``training_runs``: its seed, weights, cost and split summaries."""
-    return {
+def run_entry(run: TrainingRun, weights_sha256: str | None, splits: dict, loaded: str | None = None) -> dict:
+    """A run's entry in the results' ``training_runs``: its seed, weights, cost and split
+    summaries, and the checkpoint it loaded (``loaded``) if given."""
+    entry = {
         "seed": run.seed,
         "weights_sha256": weights_sha256,
         "env_steps": run.env_steps,
         "wall_s": run.wall_s,
         "splits": splits,
     }
+    if loaded is not None:
+        entry["loaded_checkpoint"] = str(loaded)
+    return entry

@@ -2,7 +2,8 @@
 
 A submission passes when its fields have the types of a results JSON, its schema version
 is known, its suite and episode-set version are the benchmark's own, it covers every split
-of the suite with the standard seeds (``STANDARD_SEEDS``) unless it is marked partial
+of the suite with its standard seeds (``objsearch.eval.suites.standard_seeds``: the paper's five,
+or those a suite file records) unless it is marked partial
 (``"partial": true``, set by ``objsearch leaderboard add --partial``; the results of
 ``objsearch-eval --episodes N``, the first N episodes only, are refused), every episode of its
 splits and seeds is present exactly once, none ended in an agent error, each matches the
@@ -31,13 +32,13 @@ from pathlib import Path
 import numpy as np
 
 from objsearch.errors import UserError
-from objsearch.eval.config import PAPER_SEEDS, EvalConfig
+from objsearch.eval.config import EvalConfig
 from objsearch.eval.metrics import episode_spl, summarize
 from objsearch.eval.registry import is_file_spec
 from objsearch.eval.results import SCHEMA_VERSION
 from objsearch.eval.runner import run_units
 from objsearch.eval.runs import agent_of
-from objsearch.eval.suites import SUITES, make_suite
+from objsearch.eval.suites import SUITES, make_suite, standard_seeds
 from objsearch.sim.goals import PROTOCOLS
 
 REQUIRED = (
@@ -52,7 +53,6 @@ REQUIRED = (
     "episodes",
 )
 TOLERANCE = 1e-4  # summaries are rounded to 4 decimals
-STANDARD_SEEDS = PAPER_SEEDS  # a full (ranked) submission runs every split with these seeds
 # the fields of a record that a replay must reproduce exactly (spl follows from them; no timing fields exist)
 REPLAYED = ("goal", "min_steps", "task", "success", "steps", "error")
 # a replay sample catches a submission with DETECT_FRACTION of its records altered with at least this probability
@@ -212,6 +212,7 @@ TOP_FIELDS = {
     "episodes": ((lambda x: isinstance(x, list)), "a list", True),
     "partial": (*_BOOL, False),
     "training_runs": ((lambda x: isinstance(x, list) and 0 < len(x) <= 100), "a list of 1 to 100 runs", False),
+    "loaded_checkpoint": (*_PATH, False),
     "protocol": (lambda x: x in PROTOCOLS, f"one of the protocols {', '.join(PROTOCOLS)}", False),
     # written by `objsearch leaderboard verify` into a stored entry; `add` drops a submission's own
     "verified": (
@@ -244,6 +245,7 @@ RUN_FIELDS = {  # an entry of training_runs (objsearch.eval.runs.run_entry)
     "env_steps": (*_OPT_COUNT, True),
     "wall_s": (*_OPT_NUMBER, True),
     "splits": (*_DICT, True),
+    "loaded_checkpoint": (*_PATH, False),
 }
 # the strings of a suite's options (the suite checks their values): the perception key is
 # shown on the pages; any other string option is a path
@@ -367,10 +369,9 @@ def check_submission(results: dict) -> list[str]:
         return [f"splits {unknown or splits} are not splits of {suite_name} ({', '.join(suite.splits)})"]
     if sorted(results["splits"]) != sorted(splits):
         return [f"summary splits {sorted(results['splits'])} differ from the config's {sorted(splits)}"]
-    full = sorted(splits) == sorted(suite.splits) and sorted(seeds) == sorted(STANDARD_SEEDS)
-    standard = (
-        f"every split of {suite_name} ({', '.join(suite.splits)}) with seeds {','.join(map(str, STANDARD_SEEDS))}"
-    )
+    wanted = standard_seeds(suite_name)
+    full = sorted(splits) == sorted(suite.splits) and sorted(seeds) == sorted(wanted)
+    standard = f"every split of {suite_name} ({', '.join(suite.splits)}) with seeds {','.join(map(str, wanted))}"
     if not full and not results.get("partial", False):
         return [
             f"covers splits {', '.join(splits)} with seeds {','.join(map(str, seeds))}, not {standard}; "
