@@ -98,13 +98,21 @@ def nonstandard_settings(results: dict) -> list[str]:
     return differing(results)
 
 
+PRIVILEGED = "privileged"  # the rank cell of a privileged agent's row
+
+
 def leaderboard_rows(submissions: list[tuple[str, dict]], partial: bool = False) -> dict[str, dict[str, list[dict]]]:
     """{suite: {split: [row, ...]}} of the full submissions, rows ranked by SPL, then SR (best
-    first); with ``partial``, of the partial submissions instead, in name order (unranked)."""
+    first), each row's ``rank`` its place; rows of privileged agents (``registry.is_privileged``:
+    the oracle, agents that read ground truth) after them, in name order, ranked ``PRIVILEGED``.
+    With ``partial``, of the partial submissions instead, in name order, ranked ``–``."""
+    from objsearch.eval.registry import agent_label, is_privileged
+
     tables: dict[str, dict[str, list[dict]]] = {}
     for name, results in submissions:
         if bool(results.get("partial")) != partial:
             continue
+        privileged = is_privileged(results["agent"])
         runs, steps = training(results)
         replayed = replayed_label(results)
         settings = "; ".join(nonstandard_settings(results)) if partial else ""
@@ -112,7 +120,8 @@ def leaderboard_rows(submissions: list[tuple[str, dict]], partial: bool = False)
             tables.setdefault(results["suite"], {}).setdefault(split, []).append(
                 {
                     "name": name,
-                    "agent": results["agent"],
+                    "agent": agent_label(results["agent"]) + (f" ({PRIVILEGED})" if privileged else ""),
+                    "privileged": privileged,
                     "observation": observation_label(results) + (f"; {settings}" if settings else ""),
                     "sr": s["sr"],
                     "spl": s["spl"],
@@ -132,7 +141,15 @@ def leaderboard_rows(submissions: list[tuple[str, dict]], partial: bool = False)
             )
     for splits in tables.values():
         for rows in splits.values():
-            rows.sort(key=lambda r: r["name"] if partial else (-r["spl"], -r["sr"], r["name"]))
+            rows.sort(
+                key=lambda r: (
+                    r["name"]
+                    if partial
+                    else (r["privileged"], *((r["name"],) if r["privileged"] else (-r["spl"], -r["sr"], r["name"])))
+                )
+            )
+            for place, r in enumerate(rows, start=1):
+                r["rank"] = "–" if partial else PRIVILEGED if r["privileged"] else place
     return tables
 
 
@@ -140,10 +157,12 @@ def _num(value) -> str:
     return "–" if value is None else f"{value:.2f}"
 
 
-def _markdown_row(rank, r: dict) -> str:
-    name, observation, version, commit = (markdown_text(r[k]) for k in ("name", "observation", "version", "commit"))
+def _markdown_row(r: dict) -> str:
+    name, agent, observation, version, commit = (
+        markdown_text(r[k]) for k in ("name", "agent", "observation", "version", "commit")
+    )
     return (
-        f"| {rank} | {name} | {observation} | {_num(r['sr'])} | {_num(r['sr_ci'][0])}–{_num(r['sr_ci'][1])} | "
+        f"| {r['rank']} | {name} | {agent} | {observation} | {_num(r['sr'])} | {_num(r['sr_ci'][0])}–{_num(r['sr_ci'][1])} | "
         f"{_num(r['spl'])} | {_num(r['spl_ci'][0])}–{_num(r['spl_ci'][1])} | "
         f"{_num(r['as'])} / {_num(r['ms'])} | {r['episodes']} | {r['seeds']} | {r['runs']} | {r['train_steps']} | "
         f"{version} | {commit} | {r['replayed']} |"
@@ -151,9 +170,9 @@ def _markdown_row(rank, r: dict) -> str:
 
 
 _MARKDOWN_HEADER = [
-    "| # | entry | observation | SR | SR 95% CI | SPL | SPL 95% CI | AS / MS | episodes | seeds | training runs "
+    "| # | entry | agent | observation | SR | SR 95% CI | SPL | SPL 95% CI | AS / MS | episodes | seeds | training runs "
     "| training steps | objsearch | commit | replayed |",
-    "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|",
+    "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|",
 ]
 
 
@@ -172,7 +191,10 @@ def render_markdown(tables: dict, partial: dict | None = None) -> str:
         "the agent saw ground-truth segmentation and depth, `predicted KEY` when it saw the perception network",
         "KEY's predictions (`objsearch-eval --observation predicted`). *replayed*: how many of the entry's",
         "episodes `objsearch leaderboard verify` last replayed, drawn at random, and found identical (– when none",
-        "were; `docs/failure_modes.md` says what a replay proves). The paper's",
+        "were; `docs/failure_modes.md` says what a replay proves). *agent*: the agent the results came from, by its",
+        "registered name, `module:Class` or file (`my_agent.py:Class`); an agent that reads ground truth beyond",
+        "its observations (the oracle's shortest path, the rooms that hold the target) is marked *privileged*",
+        "and listed after the ranked rows, unranked. The paper's",
         "numbers (Ye et al., CVPR 2021) close each table in italics, for reference; they were",
         "measured on the authors' maps and task lists, not ours.",
         "An interactive version: `index.html`.",
@@ -180,10 +202,10 @@ def render_markdown(tables: dict, partial: dict | None = None) -> str:
     for suite, splits in tables.items():
         for split, rows in splits.items():
             lines += ["", f"## {markdown_text(suite)} — {markdown_text(split)}", "", *_MARKDOWN_HEADER]
-            lines += [_markdown_row(rank, r) for rank, r in enumerate(rows, start=1)]
+            lines += [_markdown_row(r) for r in rows]
             for p in paper_rows(suite, split):
                 lines.append(
-                    f"| | *paper: {p['name']}* | *{p['observation']}* | *{_num(p['sr'])}* | | *{_num(p['spl'])}* | | "
+                    f"| | *paper: {p['name']}* | | *{p['observation']}* | *{_num(p['sr'])}* | | *{_num(p['spl'])}* | | "
                     f"*{_num(p['as'])} / {_num(p['ms'])}* | | | | | | | |"
                 )
     if partial:
@@ -198,7 +220,7 @@ def render_markdown(tables: dict, partial: dict | None = None) -> str:
         for suite, splits in partial.items():
             for split, rows in splits.items():
                 lines += ["", f"### {markdown_text(suite)} — {markdown_text(split)} (partial)", "", *_MARKDOWN_HEADER]
-                lines += [_markdown_row("–", r) for r in rows]
+                lines += [_markdown_row(r) for r in rows]
     return "\n".join(lines) + "\n"
 
 

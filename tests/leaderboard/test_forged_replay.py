@@ -104,7 +104,7 @@ def test_verify_with_the_os_randomness_records_the_count_shown_on_the_pages(tmp_
         capture_output=True, text=True, timeout=300,
     )  # fmt: skip
     assert add.returncode == 0, add.stderr
-    assert "| – | random | gt |" in (board / "README.md").read_text()
+    assert "| – | random | random | gt |" in (board / "README.md").read_text()
     assert "| – |\n" in (board / "README.md").read_text()  # replayed: none yet
     done = subprocess.run(
         [objsearch, "leaderboard", "--dir", str(board), "verify", "gridworld/random"],

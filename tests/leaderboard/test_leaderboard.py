@@ -110,9 +110,11 @@ def test_add_check_and_render_through_the_cli(tmp_path, full_oracle, full_random
     assert out.returncode == 2
 
     readme = (tmp_path / "leaderboard/README.md").read_text()
-    rows = [line for line in readme.splitlines() if line.startswith("| 1 ") or line.startswith("| 2 ")]
-    assert rows[0].startswith("| 1 | oracle | gt | 1.00") and rows[1].startswith("| 2 | random | gt |")
-    assert "*paper: HRL-GRG* | *gt*" in readme
+    rows = [line for line in readme.splitlines() if line.startswith(("| 1 ", "| 2 ", "| privileged "))]
+    # the oracle reads ground truth: shown after the ranked rows, marked and unranked
+    assert rows[0].startswith("| 1 | random | random | gt |")
+    assert rows[1].startswith("| privileged | oracle | oracle (privileged) | gt | 1.00")
+    assert "*paper: HRL-GRG* | | *gt*" in readme
 
 
 def test_pages_come_from_the_stored_submissions_alone(tmp_path, oracle_results):
@@ -143,7 +145,7 @@ def test_rows_say_whether_the_agent_saw_ground_truth_or_predictions(oracle_resul
     tables = leaderboard_rows([("oracle", oracle_results), ("oracle_pred", predicted)])
     rows = {r["name"]: r["observation"] for r in tables["gridworld"]["unseen-goals"]}
     assert rows == {"oracle": "gt", "oracle_pred": "predicted e0415a3134cf0e34"}
-    assert "| oracle_pred | predicted e0415a3134cf0e34 | 1.00 |" in render_markdown(tables)
+    assert "| oracle_pred | oracle (privileged) | predicted e0415a3134cf0e34 | 1.00 |" in render_markdown(tables)
 
 
 def test_the_repository_leaderboard_is_valid_and_up_to_date(tmp_path):
@@ -170,8 +172,9 @@ def test_index_html_renders_the_rows_in_headless_chromium(tmp_path, page_dom, or
     assert dom.count('<section class="board"') == 1
     assert dom.count('<tr class="entry">') == 2
     assert dom.count('<tr class="paper">') == 8
-    assert dom.index("<td>oracle</td>") < dom.index("<td>random</td>"), "ranked by SPL"
-    assert "<td>oracle</td><td>gt</td>" in dom
+    assert dom.index("<td>1</td><td>random</td><td>random</td>") < dom.index(
+        "<td>privileged</td><td>oracle</td><td>oracle (privileged)</td><td>gt</td>"
+    ), "ranked by SPL, the privileged oracle after the ranked rows, unranked"
     assert dom.count('class="point"') == 2 and dom.count('class="bar"') == 2 * 4  # 4 unseen goals each
 
 
@@ -206,12 +209,21 @@ def test_hostile_strings_leave_the_page_rows_as_they_were_in_headless_chromium(
     plain = hostile_board(tmp_path / "plain", oracle_results, random_results, "oracle", "abc")
     hostile = hostile_board(tmp_path / "hostile", oracle_results, random_results, HOSTILE_NAME, HOSTILE)
     expected = [
-        [HOSTILE_NAME if c == "oracle" else f"predicted {HOSTILE}" if c == "predicted abc" else c for c in row]
+        [
+            HOSTILE_NAME
+            if c == "oracle"
+            else HOSTILE
+            if c == "abc"
+            else f"predicted {HOSTILE}"
+            if c == "predicted abc"
+            else c
+            for c in row
+        ]
         for row in dom_rows(page_dom(plain / "index.html"))
     ]
     rows = dom_rows(page_dom(hostile / "index.html"))
     assert len(rows) == 2 + 8 and rows == expected  # 2 entries, 8 rows of the paper
-    assert [HOSTILE_NAME, f"predicted {HOSTILE}"] == rows[0][1:3]
+    assert [HOSTILE_NAME, HOSTILE, f"predicted {HOSTILE}"] == rows[0][1:4]
 
 
 def test_hostile_strings_stay_in_their_markdown_cells(tmp_path, oracle_results, random_results):

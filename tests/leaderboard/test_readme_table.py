@@ -71,7 +71,8 @@ def test_render_rewrites_only_the_text_between_the_markers(tmp_path, oracle_resu
     text = (tmp_path / "README.md").read_text()
     assert tmp_path / "README.md" in written and "stale table" not in text
     assert text.startswith(before + BEGIN + "\n") and text.endswith(END + after)
-    assert "| `oracle` | – | 1.00 / 1.00 | – |" in text  # the fixture holds unseen-goals only
+    assert "| `oracle` (privileged) | – | 1.00 / 1.00 | – |" in text  # the fixture holds unseen-goals only
+    assert "*privileged*: reads ground truth" in text
     render(board)
     assert (tmp_path / "README.md").read_text() == text, "rendering twice changes nothing"
 

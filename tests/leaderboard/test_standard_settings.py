@@ -35,8 +35,8 @@ def test_a_partial_entry_with_other_settings_is_shown_apart_with_them_named(tmp_
     (store / "long.json").write_text(json.dumps(other))
     render(tmp_path)
     ranked, apart = (tmp_path / "README.md").read_text().split("## Partial submissions (not ranked)")
-    assert "long" not in ranked and "| – | long | gt; max\\_steps=1000 (standard: 100) |" not in apart
-    assert "| – | long | gt; max_steps=1000 (standard: 100) |" in apart
+    assert "long" not in ranked and "| – | long | random | gt; max\\_steps=1000 (standard: 100) |" not in apart
+    assert "| – | long | random | gt; max_steps=1000 (standard: 100) |" in apart
 
 
 def test_impossible_records_are_refused_by_check(tmp_path, capsys, random_results):

@@ -69,7 +69,10 @@ def test_partial_entries_are_listed_apart_and_never_ranked(tmp_path, full_random
     readme = (tmp_path / "README.md").read_text()
     ranked, apart = readme.split("## Partial submissions (not ranked)")
     assert "| 1 | random |" in ranked and "oracle_part" not in ranked
-    assert "### gridworld — unseen-goals (partial)" in apart and "| – | oracle_part | gt | 1.00 |" in apart
+    assert (
+        "### gridworld — unseen-goals (partial)" in apart
+        and "| – | oracle_part | oracle (privileged) | gt | 1.00 |" in apart
+    )
     assert "oracle_part" not in (tmp_path / "index.html").read_text()
     assert "oracle_part" not in (tmp_path / "paper_tables.md").read_text()
     submissions = [("random", full_random), ("oracle_part", dict(oracle_results, partial=True))]

@@ -68,7 +68,7 @@ def test_sixteen_concurrent_adds_store_every_entry_once_and_the_pages_list_them_
     for split, rows in page_data(board)["tables"]["gridworld"].items():
         assert sorted(r["name"] for r in rows) == names, split
     for name in names:
-        assert readme.count(f" | {name} | gt | 1.00 |") == 3, name  # one row per split
+        assert readme.count(f" | {name} | oracle (privileged) | gt | 1.00 |") == 3, name  # one row per split
     assert sorted(p.name for p in board.iterdir()) == [*sorted(PAGES), "submissions"]  # no lock or temp file left
 
 
@@ -83,7 +83,7 @@ def test_concurrent_adds_of_one_name_store_one_and_refuse_the_others(tmp_path, o
     assert sorted(codes) == [0] + [2] * 7, codes
     (stored,) = (board / "submissions" / "gridworld").iterdir()
     assert json.loads(stored.read_text())["git_commit"] == f"{codes.index(0):040x}"  # the one that said "added"
-    assert "| – | same | gt | 1.00 |" in (board / "README.md").read_text()
+    assert "| – | same | oracle (privileged) | gt | 1.00 |" in (board / "README.md").read_text()
 
 
 def test_a_failed_write_leaves_the_entries_and_pages_as_they_were(tmp_path, capsys, monkeypatch, oracle_results):
