@@ -203,6 +203,9 @@ def evaluate(
         if failed >= 0:
             print(f"--retry-failed: playing the {failed} failed episode(s) of {out} again", file=sys.stderr)
     units = plan_units(suite, splits, config.seeds, config.episodes)
+    prepare = getattr(suite, "prepare", None)
+    if callable(prepare) and executor == "local":  # e.g. missing caches: a stage of its own, not in the ETA
+        prepare(units, workers=workers, progress=progress)
     records, partials, bar = [], [], None
     label = lambda i: f"{config.agent} on {config.suite}, run {i + 1}/{len(plays)}"  # noqa: E731
     try:

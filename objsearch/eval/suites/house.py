@@ -3,7 +3,8 @@ and suite files made by ``objsearch suite make``, all played by ``HouseSuite``.
 
 Episodes come from the suite files of ``objsearch.sim.suites``; the env is
 ``ObjSearch/House-v0`` in ``cached`` mode by default (``objsearch cache build --suite NAME``
-renders the caches ahead; otherwise the first episode in a house builds its cache) or
+renders the caches ahead; otherwise an evaluation builds the missing ones first, as a stage
+of its own, ``HouseSuite.prepare``) or
 ``live``. Agents see ``objsearch.sim.camera.AGENT_CAMERA``; goal poses come from the suite
 files (chosen through ``objsearch.sim.goals.GOAL_CAMERA``). With ``observation="predicted"``
 the agent's ``semantic`` and ``depth`` are the perception network's predictions
@@ -19,8 +20,10 @@ file's poses are checked on its houses' pose graphs when the houses load
 
 from __future__ import annotations
 
+import sys
 from dataclasses import dataclass
 from functools import cached_property
+from pathlib import Path
 
 from objsearch.errors import UserError
 from objsearch.eval.suites import Episode, step_limit
@@ -135,6 +138,62 @@ class HouseSuite:
                 )
             )
         return out
+
+    def missing_caches(self, house_ids) -> list[str]:
+        """The houses of ``house_ids`` whose observation cache (and, with predicted
+        observations, predictions) is not built yet in ``cache_dir``; none in live mode. A cache
+        that is there but damaged or stale is left to the env, which rebuilds it."""
+        from objsearch.sim.cache import cache_key, default_cache_dir
+
+        if self.mode != "cached":
+            return []
+        root = Path(self.cache_dir) if self.cache_dir is not None else default_cache_dir()
+        missing = []
+        for house_id in sorted(set(house_ids)):
+            folder = root / f"{house_id}-{cache_key(self.worlds[house_id], AGENT_CAMERA)}"
+            folders = [folder] + (
+                [folder.parent / f"{folder.name}-pred-{self.predictor.key}"] if self.predictor else []
+            )
+            if not all((f / "meta.json").is_file() for f in folders):
+                missing.append(house_id)
+        return missing
+
+    def prepare(self, units, workers: int = 1, progress: bool = True) -> None:
+        """Build the missing caches of the houses that ``units`` ((split, seed, episode_id))
+        play, as a stage of its own before the first episode (in ``workers`` processes, a
+        house each), so that the episodes' progress and ETA count episodes only. ``progress``:
+        a line before and after (and a bar on a terminal)."""
+        import time
+
+        from objsearch.perception.cache_cli import build_caches
+        from objsearch.sim.cache import default_cache_dir
+
+        wanted = {(split, i) for split, _, i in units}
+        houses = {
+            ep.task.house
+            for split in {u[0] for u in units}
+            for ep in self.episodes(split)
+            if (split, ep.episode_id) in wanted
+        }
+        missing = self.missing_caches(houses)
+        if not missing:
+            return
+        root = Path(self.cache_dir) if self.cache_dir is not None else default_cache_dir()
+        say = (lambda text: print(text, file=sys.stderr)) if progress else (lambda text: None)
+        say(
+            f"building the observation caches of {len(missing)} of {len(houses)} house(s) in {root} before the "
+            "first episode (once; the episodes' ETA starts after)"
+        )
+        start = time.monotonic()
+        build_caches(
+            {house: self.data["houses"][house] for house in missing},
+            root,
+            perception=self.perception,
+            workers=min(workers, len(missing)),
+            desc="building caches",
+            progress=progress,
+        )
+        say(f"built {len(missing)} house cache(s) in {time.monotonic() - start:.0f} s")
 
     def make_env(self) -> HouseEnv:
         """A ``HouseEnv`` over the suite's houses with its render mode, observation, camera, step
