@@ -1,14 +1,19 @@
 """Progress of long work: a tqdm bar on a terminal, and in a log (nohup, CI, Slurm: stderr
 is not a terminal) one plain line about every 30 seconds, e.g.
-``random on gridworld: 600/1500 ep, 41.2 ep/s, ETA 00:21``."""
+``random on gridworld: 600/1500 ep, 41.2 ep/s, ETA 00:21``. Work with no count to show says
+it is under way when it takes longer than a moment (``stage``)."""
 
 from __future__ import annotations
 
+import contextlib
 import sys
+import threading
+import time
 
 from tqdm import tqdm
 
 LOG_INTERVAL_S = 30.0
+STAGE_DELAY_S = 5.0  # quicker work says nothing: a quick error stays one line
 
 
 class _Lines:
@@ -50,3 +55,34 @@ def progress_bar(total: int, desc: str, unit: str, enabled: bool = True, initial
         disable=False,
         **options,
     )
+
+
+@contextlib.contextmanager
+def stage(what: str, delay: float | None = None):
+    """Say on stderr that ``what`` is under way once it has taken ``delay`` seconds (None:
+    ``STAGE_DELAY_S``) and then every ``LOG_INTERVAL_S``, and when it is done how long it took;
+    work done sooner says nothing."""
+    stream, start, said = sys.stderr, time.monotonic(), threading.Event()
+    stop = threading.Event()
+
+    def say() -> None:
+        wait = STAGE_DELAY_S if delay is None else delay
+        while not stop.wait(wait):
+            took = time.monotonic() - start
+            stream.write(f"{what} ... ({took:.0f} s)\n" if said.is_set() else f"{what} ...\n")
+            stream.flush()
+            said.set()
+            wait = LOG_INTERVAL_S
+
+    thread = threading.Thread(target=say, daemon=True)
+    thread.start()
+    ok = False
+    try:
+        yield
+        ok = True
+    finally:
+        stop.set()
+        thread.join()
+        if ok and said.is_set():
+            stream.write(f"{what}: done in {time.monotonic() - start:.0f} s\n")
+            stream.flush()

@@ -181,6 +181,7 @@ def run_add(args: argparse.Namespace) -> int:
 
     The folder must be writable (checked first). The file is validated before the lock is
     taken; under it, the exists check, the other entries' check, the write and the render.
+    A step that takes longer than a moment says so on stderr (``objsearch.progress``).
 
     Raises ``UserError`` for a rejected file, a bad ``--name``, an unwritable folder, or an
     existing entry without ``--replace``.
@@ -188,6 +189,7 @@ def run_add(args: argparse.Namespace) -> int:
     from objsearch.fileio import check_writable
     from objsearch.leaderboard.render import SUBMISSIONS, render
     from objsearch.leaderboard.validate import content_sha256
+    from objsearch.progress import STAGE_DELAY_S, progress_bar, stage
 
     root = Path(args.dir)
     if args.name is not None:
@@ -198,7 +200,8 @@ def run_add(args: argparse.Namespace) -> int:
     _stored(root)
     for folder in (root, Path(root, SUBMISSIONS)):  # the pages, the entries: before the slow validation
         check_writable(folder, "leaderboard folder", folder=True)
-    results = _validated(args.file, args.partial)
+    with stage(f"checking {args.file}"):
+        results = _validated(args.file, args.partial)
     if results.pop("verified", None) is not None:
         print(f"note: dropped {args.file}'s own 'verified' record: only verify writes it", file=sys.stderr)
     name = args.name if args.name is not None else default_name(results["agent"], observation_of(results))
@@ -209,13 +212,17 @@ def run_add(args: argparse.Namespace) -> int:
         if target.exists() and not args.replace:
             raise UserError(f"{target} exists; pass --replace to replace it or --name to add another entry")
         digest = content_sha256(results)
-        for path in _stored(root):  # the pages are rendered from every stored entry: refuse before writing
-            if path != target and content_sha256(_validated(path, stored=True)) == digest:
-                raise UserError(
-                    f"{args.file} holds the same results as the stored entry {path}: one result is one entry; "
-                    f"pass --replace --name {path.stem} to store it again under that name"
-                )
-        written = render(root, add=(target, results))
+        others = [path for path in _stored(root) if path != target]
+        with progress_bar(len(others), "checking the stored entries", "entry", delay=STAGE_DELAY_S) as bar:
+            for path in others:  # the pages are rendered from every stored entry: refuse before writing
+                if content_sha256(_validated(path, stored=True)) == digest:
+                    raise UserError(
+                        f"{args.file} holds the same results as the stored entry {path}: one result is one entry; "
+                        f"pass --replace --name {path.stem} to store it again under that name"
+                    )
+                bar.update()
+        with stage("rendering the pages"):
+            written = render(root, add=(target, results))
     for path in written:
         if path != target:
             print(f"wrote {path}", file=sys.stderr)
