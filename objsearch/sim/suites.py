@@ -76,7 +76,7 @@ from functools import lru_cache
 from pathlib import Path
 
 from objsearch.errors import UserError
-from objsearch.fileio import write_json
+from objsearch.fileio import open_regular, write_json
 from objsearch.sim.env import HouseTask
 from objsearch.sim.goals import PROTOCOLS, Protocol
 from objsearch.sim.world import HouseRef, World
@@ -183,6 +183,11 @@ SHUFFLED_SUITES = {suite.name: suite.shuffled_of for suite in SHIPPED if suite.s
 MADE_FIX = "correct it, or make the file again with objsearch suite make"
 
 
+# The largest shipped suite file is under 0.5 MB (rooms.json); a suite file above this is not one
+# objsearch made, and reading and checking it would take minutes and gigabytes.
+SUITE_FILE_MAX_BYTES = 64_000_000
+
+
 def load_suite_file(name: str) -> dict:
     """The suite file of a shipped house suite (a name of ``SUITE_NAMES``), or the one at the
     path ``name`` (``*.json``, made by ``objsearch suite make``) checked field by field
@@ -198,7 +203,14 @@ def load_suite_file(name: str) -> dict:
         )
     path = Path(name)
     try:
-        data = json.loads(path.read_text())
+        with open_regular(
+            path,
+            "suite file",
+            SUITE_FILE_MAX_BYTES,
+            "a suite file objsearch suite make writes is a regular JSON file well below that; remake it with "
+            "objsearch suite make",
+        ) as f:
+            data = json.loads(f.read().decode("utf-8"))
     except FileNotFoundError:
         raise UserError(
             f"suite file {path} does not exist; make it with objsearch suite make --houses DIR --out {path}"

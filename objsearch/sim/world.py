@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import hashlib
 import json
+import os
 from dataclasses import dataclass
 from functools import cached_property
 from pathlib import Path
@@ -17,6 +18,7 @@ import mujoco
 import numpy as np
 
 from objsearch.errors import UserError
+from objsearch.fileio import open_regular
 from objsearch.house.spec import HouseSpec
 from objsearch.sim.navgraph import GRID, PoseGraph, build_pose_graph
 
@@ -56,6 +58,49 @@ class HouseRef:
         return {k: v for k, v in self.__dict__.items() if v is not None}
 
 
+# A house folder's files: spec.json and house.xml are a few MB at most, its meshes tens of MB;
+# anything larger (or not a regular file) is not a house objsearch generate wrote.
+HOUSE_FILE_MAX_BYTES = 256 * 2**20
+HOUSE_FIX = "a house folder holds the regular files objsearch generate writes; generate it again"
+MAX_INCLUDE_DEPTH = 8
+
+
+def check_mjcf_files(xml_path: Path, _depth: int = 0, _model_dir: Path | None = None) -> None:
+    """Refuse (``UserError``) an MJCF file ``xml_path``, or any file it names (``<include>``d
+    MJCF, meshes, textures: every ``file`` attribute, under the model's folder or its compiler's
+    ``meshdir`` / ``texturedir`` / ``assetdir``), that is not a regular file of at most
+    ``HOUSE_FILE_MAX_BYTES``: MuJoCo would block forever on an ``<include>`` of a FIFO and read a
+    device without end. Files that do not exist are left to MuJoCo to report."""
+    import xml.etree.ElementTree as ET
+
+    with open_regular(xml_path, "house file", HOUSE_FILE_MAX_BYTES, HOUSE_FIX) as f:
+        data = f.read()
+    try:
+        root = ET.fromstring(data)
+    except ET.ParseError:
+        return  # not XML: MuJoCo says where, as for any MJCF it cannot compile
+    model_dir = _model_dir or xml_path.parent  # MuJoCo takes every file, included ones too, from here
+    folders = {model_dir}
+    for compiler in root.iter("compiler"):
+        folders |= {model_dir / compiler.get(k) for k in ("meshdir", "texturedir", "assetdir") if compiler.get(k)}
+    for element in root.iter():
+        name = element.get("file")
+        if not name:
+            continue
+        for folder in folders:
+            path = folder / name
+            if not os.path.lexists(path):
+                continue
+            if element.tag == "include":
+                if _depth >= MAX_INCLUDE_DEPTH:
+                    raise UserError(
+                        f"house file {xml_path} nests <include> deeper than {MAX_INCLUDE_DEPTH}; {HOUSE_FIX}"
+                    )
+                check_mjcf_files(path, _depth + 1, model_dir)
+            else:
+                open_regular(path, "house file", HOUSE_FILE_MAX_BYTES, HOUSE_FIX).close()
+
+
 class World:
     """One loaded house. ``model`` and ``graph`` are built on first use."""
 
@@ -72,7 +117,10 @@ class World:
         if ref.path is not None:
             directory = Path(ref.path)
             try:
-                spec = HouseSpec.from_json(json.loads((directory / "spec.json").read_text()), directory / "spec.json")
+                with open_regular(directory / "spec.json", "house file", HOUSE_FILE_MAX_BYTES, HOUSE_FIX) as f:
+                    text = f.read().decode("utf-8")
+                spec = HouseSpec.from_json(json.loads(text), directory / "spec.json")
+                check_mjcf_files(directory / "house.xml")
                 model = mujoco.MjModel.from_xml_path(str(directory / "house.xml"))
             except (OSError, ValueError) as err:
                 raise UserError(
