@@ -384,9 +384,21 @@ class PredictedCache(CacheLayers):
 
 
 # -- managing a cache folder (objsearch cache list / verify / clear) --------------------
+def _layers_of(meta: dict, kind: str) -> dict | None:
+    """The layers ({name: (dtype, shape)}) a cache of ``kind`` with metadata ``meta`` holds, as
+    ``HouseCache.open`` and ``PredictedCache.open`` write them (None when ``meta`` does not say):
+    so that ``cache list`` checks each file's ``.npy`` header byte for byte."""
+    try:
+        n, h, w = int(meta["num_poses"]), int(meta["settings"]["height"]), int(meta["settings"]["width"])
+    except (KeyError, TypeError, ValueError):
+        return None
+    layers = {"depth": (np.uint16, (n, h, w)), "semantic": (np.uint8, (n, h, w))}
+    return layers if kind == "predicted" else {"rgb": (np.uint8, (n, h, w, 3)), **layers}
+
+
 def cache_folders(root: Path, digests: bool = False) -> list[dict]:
     """Every cache in ``root``: {path, house, kind ("obs" or "predicted"), bytes, problem};
-    ``problem`` None: of this version and intact (file sizes; with ``digests``, sha256s)."""
+    ``problem`` None: of this version and intact (file sizes and .npy headers; with ``digests``, sha256s)."""
     out = []
     for path in sorted(p for p in root.iterdir() if p.is_dir() and not p.name.startswith(".")) if root.is_dir() else []:
         try:
@@ -399,6 +411,6 @@ def cache_folders(root: Path, digests: bool = False) -> list[dict]:
         if version != (PREDICTED_VERSION if kind == "predicted" else CACHE_VERSION):
             problem = "no meta.json" if version is None else f"old version {version}"
         else:
-            problem = check_folder(path, digests=digests)
+            problem = check_folder(path, layers=_layers_of(meta, kind), digests=digests)
         out.append({"path": path, "house": house, "kind": kind, "bytes": size, "problem": problem})
     return out

@@ -7,6 +7,7 @@ from __future__ import annotations
 
 import contextlib
 import fcntl
+import io
 import json
 import os
 import shutil
@@ -94,18 +95,53 @@ def check_folder(
         try:
             if path.stat().st_size != record["bytes"]:
                 return f"{name} has {path.stat().st_size} bytes, not {record['bytes']} (truncated or overwritten)"
-            if layers is not None:
-                dtype, shape = layers[name[: -len(".npy")]]
-                array = np.load(path, mmap_mode="r")
-                if array.dtype != np.dtype(dtype) or array.shape != tuple(shape):
-                    return f"{name} holds {array.dtype} {array.shape}, not {np.dtype(dtype)} {tuple(shape)}"
-                del array
+            problem = header_problem(path, None if layers is None else layers[name[: -len(".npy")]])
+            if problem is not None:
+                return f"{name} {problem}"
             if digests and sha256_file(path) != record["sha256"]:
                 return f"{name} differs from what was built (sha256 mismatch)"
         except FileNotFoundError:
             return f"{name} is missing"
         except (OSError, ValueError, KeyError, TypeError) as err:
             return f"{name} is unreadable ({err})"
+    return None
+
+
+def npy_header(dtype, shape) -> bytes:
+    """The ``.npy`` header numpy writes for a C-order array of ``dtype`` and ``shape`` (as
+    ``fill_arrays``' ``open_memmap`` wrote every cache file)."""
+    header = {"descr": np.lib.format.dtype_to_descr(np.dtype(dtype)), "fortran_order": False, "shape": tuple(shape)}
+    out = io.BytesIO()
+    try:
+        np.lib.format.write_array_header_1_0(out, header)
+    except ValueError:  # too long for version 1.0
+        out = io.BytesIO()
+        np.lib.format.write_array_header_2_0(out, header)
+    return out.getvalue()
+
+
+def header_problem(path: Path, layer: tuple | None = None) -> str | None:
+    """What is wrong with the ``.npy`` header of ``path`` (None: nothing), without trusting
+    numpy's parser with a damaged header (one flipped byte can make it raise anything, e.g.
+    ``tokenize.TokenError``): with ``layer`` ((dtype, shape)), its bytes must be the ones
+    written for it; without, it must parse, be C order and match the file's size."""
+    size = path.stat().st_size
+    with open(path, "rb") as f:
+        if layer is not None:
+            expected = npy_header(*layer)
+            found = f.read(len(expected))
+            if found == expected and size == len(expected) + np.dtype(layer[0]).itemsize * int(np.prod(layer[1])):
+                return None
+            return f"has a damaged .npy header or size (not {np.dtype(layer[0])} {tuple(layer[1])}: {found[:80]!r})"
+        try:
+            version = np.lib.format.read_magic(f)
+            read = np.lib.format.read_array_header_1_0 if version == (1, 0) else np.lib.format.read_array_header_2_0
+            shape, fortran_order, dtype = read(f)
+            offset = f.tell()
+        except Exception as err:  # noqa: BLE001 - whatever numpy's parser makes of damaged bytes
+            return f"has a damaged .npy header ({type(err).__name__}: {str(err)[:120]})"
+    if fortran_order or offset + dtype.itemsize * int(np.prod(shape)) != size:
+        return f"has a damaged .npy header or size ({dtype} {shape} in {size} bytes)"
     return None
 
 
