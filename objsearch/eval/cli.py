@@ -27,7 +27,6 @@ SUITE_FLAGS = {
 def configure(parser: argparse.ArgumentParser) -> argparse.ArgumentParser:
     """Add the evaluation flags to ``parser`` (``objsearch eval`` and ``objsearch-eval``) and return it."""
     from objsearch.cluster import EXECUTORS
-    from objsearch.eval.config import PAPER_SEEDS
     from objsearch.eval.suites import DEFAULT_SUITE, SUITES
 
     parser.add_argument(
@@ -51,8 +50,8 @@ def configure(parser: argparse.ArgumentParser) -> argparse.ArgumentParser:
     parser.add_argument(
         "--seeds",
         type=seed_list,
-        default=PAPER_SEEDS,
-        help="comma-separated evaluation seeds (default: the paper's 1,5,13,45,99)",
+        help="comma-separated evaluation seeds (default: the suite's standard seeds: the paper's 1,5,13,45,99, "
+        "or those its suite file records, e.g. 1 for the large-house tier)",
     )
     parser.add_argument(
         "--workers", type=positive_int, default=1, help="worker processes; results are identical for any number"
@@ -172,7 +171,7 @@ def run(args: argparse.Namespace) -> int:
     from objsearch.eval.registry import recorded_spec
     from objsearch.eval.results import format_table
     from objsearch.eval.runner import evaluate
-    from objsearch.eval.suites import DEFAULT_SUITE
+    from objsearch.eval.suites import DEFAULT_SUITE, standard_seeds
 
     check_address(args.address, args.executor)
     if args.out is not None and not args.out.strip():  # not silently "no --out"
@@ -186,7 +185,7 @@ def run(args: argparse.Namespace) -> int:
         agent=recorded_spec(args.agent),  # a file agent's absolute path: replays find it from anywhere
         suite=args.suite,
         splits=tuple(args.splits or ()),
-        seeds=args.seeds,
+        seeds=args.seeds or standard_seeds(args.suite),
         checkpoint=args.checkpoint,
         training_run=args.training_run,
         suite_config=suite_config(args),

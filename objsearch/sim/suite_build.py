@@ -179,11 +179,12 @@ def _suite_record(
     max_steps: int | None = None,
     start_steps: tuple[int, int] = START_STEPS,
     room_max_steps: dict[str, int] | None = None,
+    seeds: tuple[int, ...] | None = None,
 ) -> dict:
     """A suite file's content: the given parts and the settings every suite records, those of
     ``protocol`` among them. The protocol's name and ``starts`` are recorded only when not the
-    defaults (``paper``, ``anywhere``), and ``room_max_steps`` only when given, so that other
-    files keep their bytes. ``max_steps`` None: the protocol's. ``version`` None: ``custom:``
+    defaults (``paper``, ``anywhere``), and ``room_max_steps`` and ``seeds`` (the standard
+    seeds, where not the paper's) only when given, so that other files keep their bytes. ``max_steps`` None: the protocol's. ``version`` None: ``custom:``
     and the content's digest."""
     record = {
         "suite": name,
@@ -195,6 +196,7 @@ def _suite_record(
         "start_steps": list(start_steps),
         "max_steps": protocol.max_steps if max_steps is None else max_steps,
         **({"room_max_steps": dict(room_max_steps)} if room_max_steps else {}),
+        **({"seeds": list(seeds)} if seeds else {}),
         "categories": categories,
         "houses": houses,
         "training_houses": training,

@@ -128,6 +128,13 @@ SCHEMA = {
             "description": "[fewest, most] steps of the drawn starts from the goal",
         },
         "starts": {"enum": list(FILE_STARTS), "description": f"where starts were drawn: {' or '.join(FILE_STARTS)}"},
+        "seeds": {
+            "type": "array",
+            "items": {"type": "integer", "minimum": 0},
+            "minItems": 1,
+            "uniqueItems": True,
+            "description": "the seeds a full evaluation plays (absent: the paper's 1, 5, 13, 45, 99)",
+        },
         "max_steps": {
             "type": "integer",
             "minimum": 1,

@@ -157,19 +157,19 @@ SHIPPED = (
     ),
     ShippedSuite(
         "house-large",
-        "c36b9773ccd55599fe64d6df3c6ecab830b219cedbc1859f511aa523fb0b7a8d",
+        "02ef71353383d00dd8480e49576d2eb06a926305a6e1c2c33fafc9cce8951126",
         recipe="house-large",
         generator="house-gen-3",
     ),
     ShippedSuite(
         "house-large-roomwise",
-        "6f3ae5e331b99ced3001dac9f13672b5a73aa395d0202c7376e3571952fdd401",
+        "336cac5a5edbc3412f152332dcde6a8d50667cb30246f4126e39b0af73e4b082",
         recipe="house-large",
         generator="house-gen-3",
     ),
     ShippedSuite(
         "house-large-shuffled",
-        "6003765b2504d0bc422dc87b540bdccc899e11dd023a63bcddbee87163135a71",
+        "e481d5d48bf7de6fd006d27be9e7641833b236fac3f285d298211fcba8dfef64",
         recipe="house-large",
         generator="house-gen-3",
     ),

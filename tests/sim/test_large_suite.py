@@ -19,7 +19,7 @@ def test_the_three_suites_play_the_same_episodes_in_the_same_houses():
     assert base["goal_rule"]["kind"] == "near_visible" and base["goal_rule"]["min_pixels"] == 5
     assert set(base["categories"]["targets"]) <= set(SMALL_TARGETS)
     assert len(base["training_houses"]) == 60 and len(base["houses"]) == 15
-    assert {k: len(v) for k, v in base["splits"].items()} == {"val": 100, "test": 200}
+    assert {k: len(v) for k, v in base["splits"].items()} == {"val": 100, "test": 200} and base["seeds"] == [1]
     for name, placement in PLACEMENTS.items():
         suite = SUITES[name]
         assert suite["houses"].keys() == base["houses"].keys()

@@ -24,14 +24,14 @@ SHIPPED = {
         "e8eeb214527e78badcfec1a9396ee6acdff65bd48a1a73083ec237274d76e021",
     ),
     "rooms": ("rooms-v1", "31f17d636bcc4269124a39e7a887c21753d1f368f3ba5f9a55e70fe5f7ccc0ce"),
-    "house-large": ("house-large-v1", "9b0fdee91158a25af1e2fe975d1e7d61a47fee4d63161cd26eaaafc9d27a490c"),
+    "house-large": ("house-large-v1", "85d62e147d861c07d13da9cf429d25693a54ac33c29d741056b34b2e0e48bc3c"),
     "house-large-roomwise": (
         "house-large-roomwise-v1",
-        "b07ae5916c9bf5edf441dcb097393d4837bf0b635f0cc1b75858ed168340d631",
+        "c29329810030151778c0ac5d44f334b8abed68e8372ae95a5ece8b2a193c27d8",
     ),
     "house-large-shuffled": (
         "house-large-shuffled-v1",
-        "5d7013bd46bddca11c7e06de08f18fb3fd96622ac661fb2faf43577118a3d094",
+        "f53fa25b59e01c0997d2e6441354c7cbe6f46f07e16be14a0743fba5f7c356da",
     ),
 }
 

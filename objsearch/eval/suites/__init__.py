@@ -106,6 +106,19 @@ def suite_world(name: str) -> str:
     return suite_class(name).world
 
 
+def standard_seeds(name: str) -> tuple[int, ...]:
+    """The seeds a full (ranked) evaluation of suite ``name`` plays: a house suite file's
+    ``seeds`` where it records them (the large-house tier: one, its 300 long episodes carry the
+    statistics), else the paper's ``PAPER_SEEDS``; without building the suite."""
+    from objsearch.eval.config import PAPER_SEEDS
+
+    if suite_class(name).world != "house":
+        return PAPER_SEEDS
+    from objsearch.sim.suites import load_suite_file
+
+    return tuple(load_suite_file(name).get("seeds", PAPER_SEEDS))
+
+
 def suite_protocol(name: str) -> str:
     """How a suite's episodes succeed, ``paper`` or ``objectnav`` (its class's ``protocol``;
     a house suite's is its file's), without building the suite."""
