@@ -10,7 +10,7 @@ import gymnasium
 ENVS = {
     "ObjSearch/GridWorld-v0": {"entry_point": "objsearch.gridworld.env:GridWorldEnv"},
     "ObjSearch/House-v0": {
-        "entry_point": "objsearch.sim.env_entry:make_house_env",  # HouseEnv, its max_steps checked first
+        "entry_point": "objsearch.sim.env:HouseEnv",
         # gymnasium.make_vec(..., vectorization_mode="vector_entry_point"): the batched cached env
         "vector_entry_point": "objsearch.sim.vector:HouseVectorEnv",
     },

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import numbers
 from dataclasses import dataclass
 from typing import Any, Sequence
 
@@ -103,6 +104,18 @@ def draw_start(dist: np.ndarray, rng: np.random.Generator, near: np.ndarray | No
     if len(starts) == 0:
         return None
     return int(starts[rng.integers(len(starts))])
+
+
+def check_max_steps(value) -> int:
+    """``max_steps`` as an int if it is an integer >= 1 (a Python or numpy integer, or a float
+    with no fraction); else ``ValueError`` naming it: ``-5``, ``0``, ``2.5``, ``True`` or ``"100"``
+    are not step limits (``gymnasium.make("ObjSearch/House-v0", max_steps=-5)`` says so, not a ``Box``)."""
+    whole = isinstance(value, numbers.Integral) or (isinstance(value, float) and value.is_integer())
+    if isinstance(value, bool) or not whole or value < 1:
+        raise ValueError(
+            f"max_steps={value!r}: the step limit of an episode is an integer >= 1 (e.g. max_steps=1000, the default)"
+        )
+    return int(value)
 
 
 def check_room_max_steps(room_max_steps: dict[str, int] | None) -> dict[str, int]:
@@ -253,7 +266,7 @@ class HouseEnv(gymnasium.Env):
             check_predictor_camera(predictor, settings, "this HouseEnv's camera (settings)")
         self.observation, self.predictor = observation, predictor
         self.refs = list(houses) if houses else [HouseRef(seed=0)]
-        self.mode, self.settings, self.max_steps = mode, settings, int(max_steps)
+        self.mode, self.settings, self.max_steps = mode, settings, check_max_steps(max_steps)
         self.room_max_steps = check_room_max_steps(room_max_steps)
         self.stop_action, self.cache_dir, self.goal_rule = bool(stop_action), cache_dir, goal_rule
         self.targets = tuple(targets) if targets else None

@@ -33,10 +33,6 @@ class HouseVectorEnv(gymnasium.vector.VectorEnv):
             raise ValueError(
                 "HouseVectorEnv steps cached observations without STOP; use HouseEnv for live rendering or STOP"
             )
-        if "max_steps" in env_kwargs:
-            from objsearch.sim.env_entry import check_max_steps
-
-            env_kwargs["max_steps"] = check_max_steps(env_kwargs["max_steps"])
         self.env = HouseEnv(mode="cached", **env_kwargs)
         self.num_envs = int(num_envs)
         self.single_observation_space = self.env.observation_space
