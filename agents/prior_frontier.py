@@ -134,12 +134,17 @@ def count_priors(specs) -> dict[str, np.ndarray]:
     p_g_given_type = rooms_holding / np.maximum(rooms_of_type[None, :], 1)
     room = p_g_given_type @ p_type_given_c.T  # [g, c]
     obj = near / np.maximum(instances[None, :], 1)
-    # the control: every object category relates alike (the close look without a prior)
-    uniform = np.zeros_like(room)
-    uniform[FIRST_OBJECT_ID:, FIRST_OBJECT_ID:] = UNIFORM
-    for table in (room, obj, uniform):
+    for table in (room, obj):
         np.fill_diagonal(table, 0.0)  # the target itself: approach on sight handles it
-    return {"room": room, "object": obj, "uniform": uniform}
+    return {"room": room, "object": obj}
+
+
+def uniform_prior() -> np.ndarray:
+    """The control's table: every object category relates to every other target with ``UNIFORM``."""
+    table = np.zeros((NUM_CATEGORY_IDS, NUM_CATEGORY_IDS))
+    table[FIRST_OBJECT_ID:, FIRST_OBJECT_ID:] = UNIFORM
+    np.fill_diagonal(table, 0.0)
+    return table
 
 
 def training_refs(suite: str) -> tuple:
@@ -190,6 +195,8 @@ class PriorFrontierAgent(FrontierAgent):
             raise UserError(f"{cls.__name__} counts its prior on the suite's training houses; drop --checkpoint")
         if cls.config.relation not in PRIORS:
             raise UserError(f"unknown prior {cls.config.relation!r}; pick one of {', '.join(PRIORS)}")
+        if cls.config.relation == "uniform":  # nothing to count: training-free
+            return cls(uniform_prior())
         refs = training_refs(suite)
         agent = cls(counted_priors(refs)[cls.config.relation])
         agent.loaded_from = f"{cls.config.relation} prior counted on the {len(refs)} training houses of {suite}"

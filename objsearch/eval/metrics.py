@@ -100,16 +100,25 @@ def paired_difference_ci(a: Sequence[dict], b: Sequence[dict], measure) -> list[
     tasks (one agent on two suites with the same episodes, or two agents on one suite): the
     tasks (split and episode id, with all their seeds) are resampled together, so what the
     two share cancels. Single training runs; ``ValueError`` if the tasks differ."""
-    tasks_a, tasks_b = defaultdict(list), defaultdict(list)
-    for records, tasks in ((a, tasks_a), (b, tasks_b)):
-        for r in records:
-            tasks[(r["split"], r["episode_id"])].append(r)
-    if set(tasks_a) != set(tasks_b):
+    per_a, per_b = per_task(a, measure), per_task(b, measure)
+    if per_a.keys() != per_b.keys():
         raise ValueError("paired_difference_ci needs records of the same tasks")
-    keys = sorted(tasks_a)
-    diff = np.array([measure(tasks_a[k]) - measure(tasks_b[k]) for k in keys])
-    picks = np.random.default_rng(BOOTSTRAP_SEED).integers(len(keys), size=(BOOTSTRAP_SAMPLES, len(keys)))
-    return _interval(diff[picks].mean(axis=1))
+    return mean_ci([per_a[k] - per_b[k] for k in sorted(per_a)])
+
+
+def per_task(records: Sequence[dict], measure) -> dict:
+    """``measure`` of each task's records (all its seeds), by task: (split, episode id)."""
+    tasks = defaultdict(list)
+    for r in records:
+        tasks[(r["split"], r["episode_id"])].append(r)
+    return {key: measure(rs) for key, rs in tasks.items()}
+
+
+def mean_ci(values: Sequence[float]) -> list[float]:
+    """95% percentile bootstrap interval of the mean of per-task ``values`` (tasks resampled)."""
+    values = np.asarray(values, dtype=float)
+    picks = np.random.default_rng(BOOTSTRAP_SEED).integers(len(values), size=(BOOTSTRAP_SAMPLES, len(values)))
+    return _interval(values[picks].mean(axis=1))
 
 
 def _round(value):

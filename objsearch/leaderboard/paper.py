@@ -36,7 +36,7 @@ PAPER_NAMES = {
     "frontier": "Frontier (not in the paper)",
     "scene_priors": "Scene Priors",
 }
-TRAINING_FREE = ("random", "oracle", "frontier")
+TRAINING_FREE = ("random", "oracle", "frontier", "inspect_frontier")
 """The shipped agents that load no weights: any other entry that reports no training runs
 (results from before they were recorded) counts as one run."""
 GRIDWORLD_TABLES = {

@@ -9,7 +9,9 @@ moved, and the large-house tier's gains over ``frontier`` (``leaderboard/paper_t
   same episodes (the large tier: the same starts and targets), else the two sets resampled
   independently (``metrics.difference_ci``).
 * ``gain_rows``: on each suite of the large tier, every gt entry minus ``frontier`` on the
-  same episodes (paired), SR and SPL.
+  same episodes (paired), SR and SPL; ``owed_rows``: that gain on ``house-large`` minus the
+  same gain on a moved placement, per episode (what the agent owes to where things are,
+  with the move's own effect on difficulty cancelled).
 * ``breakdown_rows``: the large tier's entries by distance to the target (the episodes'
   ``geodesic`` in the suite file) and how they failed (STOP away from the target, or out of
   steps).
@@ -19,7 +21,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-from objsearch.eval.metrics import difference_ci, paired_difference_ci, spl, success_rate
+from objsearch.eval.metrics import difference_ci, mean_ci, paired_difference_ci, per_task, spl, success_rate
 from objsearch.leaderboard.markdown import markdown_text
 from objsearch.leaderboard.paper import PAPER_NAMES
 
@@ -197,6 +199,54 @@ def render_gains(rows: list[dict]) -> list[str]:
         "moved placements. gt observations.",
         "",
         "| Method | suite | SR gain (95% CI) | SPL gain (95% CI) |",
+        "|---|---|---|---|",
+    ]
+    for r in rows:
+        cells = [f"{r[k]:+.2f} ({r[k + '_ci'][0]:+.2f} to {r[k + '_ci'][1]:+.2f})" for k in ("sr", "spl")]
+        lines.append(f"| {_name(r['name'])} | {r['suite']} | " + " | ".join(cells) + " |")
+    return lines
+
+
+def owed_rows(submissions: list[tuple[str, dict]], split: str = "test") -> list[dict]:
+    """What each agent owes to where things are, beyond what moving them does to ``REFERENCE``:
+    for every gt entry stored on ``house-large`` and a moved suite of the tier, with
+    ``REFERENCE`` on both, its gain over ``REFERENCE`` on ``house-large`` minus its gain on the
+    moved suite (per task, so placement's own effect on difficulty, which ``REFERENCE`` shows,
+    cancels), SR and SPL, with the paired 95% interval over the tasks."""
+    base = _gt(submissions, LARGE_SUITES[0])
+    rows = []
+    for moved_suite in LARGE_SUITES[1:]:
+        moved = _gt(submissions, moved_suite)
+        if REFERENCE not in base or REFERENCE not in moved:
+            continue
+        for name in _ordered(n for n in base if n in moved and n != REFERENCE):
+            sets = [_split(results[key], split) for results in (base, moved) for key in (name, REFERENCE)]
+            row = {"suite": moved_suite, "name": name}
+            for key, measure in (("sr", success_rate), ("spl", spl)):
+                a, ref, a_moved, ref_moved = (per_task(records, measure) for records in sets)
+                if not a.keys() == ref.keys() == a_moved.keys() == ref_moved.keys():
+                    break
+                values = [(a[k] - ref[k]) - (a_moved[k] - ref_moved[k]) for k in sorted(a)]
+                row[key], row[key + "_ci"] = float(sum(values) / len(values)), mean_ci(values)
+            else:
+                rows.append(row)
+    return rows
+
+
+def render_owed(rows: list[dict]) -> list[str]:
+    """The markdown of ``owed_rows``."""
+    if not rows:
+        return []
+    lines = [
+        "",
+        f"## The large-house tier: what each agent owes to where things are, beyond `{REFERENCE}`",
+        "",
+        f"Moving the objects changes how hard they are to see (`{REFERENCE}`, which ignores where things are,",
+        "scores differently on the three placements). So each agent's gain over it on `house-large` minus the same",
+        "gain on the moved placement, per test episode, with the paired 95% interval: above zero, the agent used",
+        "what the move broke (object relations for roomwise; room priors too for shuffled). gt observations.",
+        "",
+        "| Method | moved suite | SR owed (95% CI) | SPL owed (95% CI) |",
         "|---|---|---|---|",
     ]
     for r in rows:

@@ -33,9 +33,11 @@ from objsearch.leaderboard.paper import (
 from objsearch.leaderboard.relations import (
     breakdown_rows,
     gain_rows,
+    owed_rows,
     relations_rows,
     render_breakdown,
     render_gains,
+    render_owed,
     render_relations,
 )
 from objsearch.leaderboard.table4 import ordering_cells, render_ordering, render_table4, table4_rows
@@ -272,6 +274,7 @@ def render_paper_tables(submissions: list[tuple[str, dict]], relations: list[dic
             + _beyond_the_paper(submissions)
             + render_relations(relations)
             + render_gains(gain_rows(submissions))
+            + render_owed(owed_rows(submissions))
             + render_breakdown(breakdown_rows(submissions))
         )
         + "\n"

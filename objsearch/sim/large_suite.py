@@ -154,7 +154,7 @@ class _Placed:
         return free & (steps[safe] >= 0) & (metres[safe] >= MIN_GEODESIC) & far_rooms
 
 
-def _found_in_half(placed: dict[str, _Placed]) -> set[str]:
+def _small_targets_in_half(placed: dict[str, _Placed]) -> set[str]:
     """The small targets with goal poses in at least half of the houses of ``placed``."""
     return {t for t in SMALL_TARGETS if sum(t in here.goal_ids for here in placed.values()) >= len(placed) / 2}
 
@@ -175,7 +175,7 @@ def build_large_suites(cache_dir: str | None = None) -> dict[str, dict]:
         for worlds in groups[part]:
             for placement, world in worlds.items():
                 placed[placement][world.house_id] = _Placed(world, _goal_ids(world, SMALL_TARGETS, cache_dir, RULE))
-    targets = sorted(set.intersection(*(_found_in_half(placed[p]) for p in placed)))
+    targets = sorted(set.intersection(*(_small_targets_in_half(placed[p]) for p in placed)))
     rng = np.random.default_rng(BUILD_SEED)
     episodes = {p: {} for p in placed}
     for part in ("val", "test"):
