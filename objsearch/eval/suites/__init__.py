@@ -203,12 +203,36 @@ def make_suite(name: str, **config):
 
 
 def check_splits(suite, splits: list[str] | None) -> list[str]:
-    """The splits to run: all of the suite's if none given; unknown names are an error."""
+    """The splits to run: all of the suite's if none given; unknown names are an error.
+
+    The one place an evaluation's splits are resolved, so the one place that refuses an
+    evaluation with nothing to play: a suite whose ``splits`` is empty, and chosen splits that
+    hold no episodes, are a ``UserError`` naming the suite and the fix, never results with no
+    episodes (which would read as a finished run) nor an error from ``summarize``."""
+    name = getattr(suite, "name", None) or type(suite).__name__
+    available = list(getattr(suite, "splits", None) or ())
+    if not available:
+        raise UserError(
+            f"suite {name!r} has no splits (its splits is {getattr(suite, 'splits', None)!r}): nothing to play; "
+            "a suite lists at least one split, each with episodes (docs/add_a_suite.md)"
+        )
     if not splits:
-        return list(suite.splits)
+        splits = available
     for split in splits:
-        if split not in suite.splits:
-            close = difflib.get_close_matches(split, list(suite.splits), n=1)
+        if split not in available:
+            close = difflib.get_close_matches(split, available, n=1)
             hint = f"did you mean {close[0]!r}? " if close else ""
-            raise UserError(f"unknown split {split!r} of suite {suite.name!r}; {hint}splits: {', '.join(suite.splits)}")
-    return splits
+            raise UserError(f"unknown split {split!r} of suite {name!r}; {hint}splits: {', '.join(available)}")
+    empty = [split for split in splits if not suite.episodes(split)]
+    if empty:
+        others = [split for split in available if split not in empty and suite.episodes(split)]
+        fix = (
+            f"choose splits that have episodes ({', '.join(others)})"
+            if others
+            else "give the suite's episodes(split) at least one episode per split (docs/add_a_suite.md)"
+        )
+        raise UserError(
+            f"split{'s' if len(empty) > 1 else ''} {', '.join(map(repr, empty))} of suite {name!r} "
+            f"{'hold' if len(empty) > 1 else 'holds'} no episodes: nothing to play; {fix}"
+        )
+    return list(splits)
