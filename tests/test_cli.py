@@ -214,3 +214,21 @@ def test_checkpoints_are_data_not_code(tmp_path, agent, suite):
         "objsearch-eval", "--agent", agent, "--suite", suite, "--checkpoint", str(tmp_path / "whole.pt"), "--quiet"
     )
     assert_clean_error(wrong, "whole.pt")
+
+
+def test_every_subcommand_has_help_that_renders():
+    """``--help`` of every command and nested subcommand formats (a bare ``%`` in a help text
+    makes argparse raise instead of printing it)."""
+    import argparse
+
+    from objsearch.cli import build_parser
+
+    todo, seen = [build_parser()], 0
+    while todo:
+        parser = todo.pop()
+        assert parser.format_help()
+        seen += 1
+        for action in parser._actions:
+            if isinstance(action, argparse._SubParsersAction):
+                todo.extend(action.choices.values())
+    assert seen > 20, seen

@@ -59,8 +59,8 @@ def add_parser(subparsers) -> None:
         type=_episodes,
         default=None,
         metavar="K|all",
-        help=f"episodes replayed per entry, drawn at random now (default: enough to catch {DETECT_FRACTION:.0%} "
-        f"altered records with probability {DETECT_PROBABILITY:.0%}: 90 for a large entry); all: every episode",
+        help=f"episodes replayed per entry, drawn at random now (default: enough to catch {DETECT_FRACTION * 100:.0f}%% "
+        f"altered records with probability {DETECT_PROBABILITY * 100:.0f}%%: 90 for a large entry); all: every episode",
     )
     verify.add_argument(
         "--trust",
