@@ -13,7 +13,8 @@ AGENT = "tests.eval.agents_for_tests:RunsAgent"  # three training runs
 
 
 def progress_lines(text: str) -> list[str]:
-    return [line for line in text.splitlines() if line.startswith(AGENT)]
+    """The progress bar's status lines (not the line naming each run's checkpoint)."""
+    return [line for line in text.splitlines() if line.startswith(AGENT) and " ep" in line]
 
 
 def test_a_multi_run_evaluation_counts_every_run_and_names_the_one_playing(capsys):
