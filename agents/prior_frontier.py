@@ -17,11 +17,14 @@ sees categories (``semantic``) and infers from them where it is.
 * **No prior** (``inspect_frontier``, the control): every object category relates with
   ``UNIFORM``; what the two priors gain over it is what the prior, not the close look, buys.
 
-Both are counted once per suite (``counted_priors``) on the functional placement of the
-suite's training houses (``training_houses``; for ``house-large-roomwise`` and
-``-shuffled``, the same seeds as ``house-large``'s): the agent learns where things go in real
-homes and is tested, on the other placements, in houses where they are not. Scores, tuning
-and results: ``docs/large_houses.md``.
+All three also look closely (``PriorSlotState``): a small target is seen only from about a
+metre, so besides frontiers they weigh close views of the furniture their prior relates to it.
+
+Both priors are counted once per suite (``counted_priors``) on the functional placement of the
+suite's training houses (``training_refs``; for ``house-large-roomwise`` and ``-shuffled``, the
+same seeds as ``house-large``'s; for a suite without training houses, those of the suite made
+for unseen houses of its generator): the agent learns where things go in real homes and is
+tested, on the other placements, in houses where they are not. Results: ``docs/large_houses.md``.
 """
 
 from __future__ import annotations
