@@ -188,25 +188,27 @@ def gain_rows(submissions: list[tuple[str, dict]], split: str = "test") -> list[
     return rows
 
 
-def render_gains(rows: list[dict]) -> list[str]:
-    """The markdown of ``gain_rows``."""
+def _interval_table(heading: str, text: tuple[str, ...], column: str, measure: str, rows: list[dict]) -> list[str]:
+    """A section of one row per entry: its name, ``column`` (``r["suite"]``) and SR and SPL
+    values (``r["sr"]``, ``r["spl"]``) with their intervals (``r["sr_ci"]``, ``r["spl_ci"]``)."""
     if not rows:
         return []
-    lines = [
-        "",
-        f"## The large-house tier: gain over `{REFERENCE}`",
-        "",
-        f"Each agent minus `{REFERENCE}` on the same test episodes and seeds, with the paired 95% bootstrap interval.",
-        "A prior that helps shows above zero on `house-large`; one that uses relations loses that gain on the",
-        "moved placements. gt observations.",
-        "",
-        "| Method | suite | SR gain (95% CI) | SPL gain (95% CI) |",
-        "|---|---|---|---|",
-    ]
+    lines = ["", f"## {heading}", "", *text, ""]
+    lines += [f"| Method | {column} | SR {measure} (95% CI) | SPL {measure} (95% CI) |", "|---|---|---|---|"]
     for r in rows:
         cells = [f"{r[k]:+.2f} ({r[k + '_ci'][0]:+.2f} to {r[k + '_ci'][1]:+.2f})" for k in ("sr", "spl")]
         lines.append(f"| {_name(r['name'])} | {r['suite']} | " + " | ".join(cells) + " |")
     return lines
+
+
+def render_gains(rows: list[dict]) -> list[str]:
+    """The markdown of ``gain_rows``."""
+    text = (
+        f"Each agent minus `{REFERENCE}` on the same test episodes and seeds, with the paired 95% bootstrap interval.",
+        "A prior that helps shows above zero on `house-large`; one that uses relations loses that gain on the",
+        "moved placements. gt observations.",
+    )
+    return _interval_table(f"The large-house tier: gain over `{REFERENCE}`", text, "suite", "gain", rows)
 
 
 def owed_rows(submissions: list[tuple[str, dict]], split: str = "test") -> list[dict]:
@@ -237,24 +239,14 @@ def owed_rows(submissions: list[tuple[str, dict]], split: str = "test") -> list[
 
 def render_owed(rows: list[dict]) -> list[str]:
     """The markdown of ``owed_rows``."""
-    if not rows:
-        return []
-    lines = [
-        "",
-        f"## The large-house tier: what each agent owes to where things are, beyond `{REFERENCE}`",
-        "",
+    text = (
         f"Moving the objects changes how hard they are to see (`{REFERENCE}`, which ignores where things are,",
         "scores differently on the three placements). So each agent's gain over it on `house-large` minus the same",
         "gain on the moved placement, per test episode, with the paired 95% interval: above zero, the agent used",
         "what the move broke (object relations for roomwise; room priors too for shuffled). gt observations.",
-        "",
-        "| Method | moved suite | SR owed (95% CI) | SPL owed (95% CI) |",
-        "|---|---|---|---|",
-    ]
-    for r in rows:
-        cells = [f"{r[k]:+.2f} ({r[k + '_ci'][0]:+.2f} to {r[k + '_ci'][1]:+.2f})" for k in ("sr", "spl")]
-        lines.append(f"| {_name(r['name'])} | {r['suite']} | " + " | ".join(cells) + " |")
-    return lines
+    )
+    heading = f"The large-house tier: what each agent owes to where things are, beyond `{REFERENCE}`"
+    return _interval_table(heading, text, "moved suite", "owed", rows)
 
 
 def breakdown_rows(submissions: list[tuple[str, dict]], split: str = "test") -> list[dict]:
