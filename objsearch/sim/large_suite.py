@@ -177,6 +177,10 @@ def build_large_suites(cache_dir: str | None = None) -> dict[str, dict]:
                 placed[placement][world.house_id] = _Placed(world, _goal_ids(world, SMALL_TARGETS, cache_dir, RULE))
     targets = sorted(set.intersection(*(_small_targets_in_half(placed[p]) for p in placed)))
     rng = np.random.default_rng(BUILD_SEED)
+    # the start candidates: every pose of a house's functional graph, and where each is in every placement
+    tuples = {h: np.array(here.world.graph.pose_tuples, dtype=np.int64) for h, here in placed["functional"].items()}
+    pose_ids = {(p, h): placed[p][h].pose_ids(tuples[h]) for p in placed for h in tuples}
+    starts_of: dict[tuple[str, str], np.ndarray] = {}  # (house, target) -> candidates that may start its episodes
     episodes = {p: {} for p in placed}
     for part in ("val", "test"):
         ids = sorted(w["functional"].house_id for w in groups[part])
@@ -188,19 +192,19 @@ def build_large_suites(cache_dir: str | None = None) -> dict[str, dict]:
             if not have:
                 continue
             target = have[int(rng.integers(len(have)))]
-            base = placed["functional"][house]
-            tuples = np.array(base.world.graph.pose_tuples, dtype=np.int64)
-            ok = np.ones(len(tuples), dtype=bool)
-            for p in placed:
-                ok &= placed[p][house].start_ok(target, placed[p][house].pose_ids(tuples))
-            starts = np.flatnonzero(ok)
+            if (house, target) not in starts_of:
+                ok = np.ones(len(tuples[house]), dtype=bool)
+                for p in placed:
+                    ok &= placed[p][house].start_ok(target, pose_ids[p, house])
+                starts_of[house, target] = np.flatnonzero(ok)
+            starts = starts_of[house, target]
             if len(starts) == 0:
                 continue
-            start = tuples[int(starts[rng.integers(len(starts))])]
+            k = int(starts[rng.integers(len(starts))])
+            start = tuples[house][k]
             for p in placed:
-                here = placed[p][house]
-                pose = int(here.pose_ids(start[None])[0])
-                steps, metres = here.steps_and_metres(target)
+                pose = int(pose_ids[p, house][k])
+                steps, metres = placed[p][house].steps_and_metres(target)
                 episodes[p][part].append(
                     {
                         "house": house,
