@@ -1,4 +1,4 @@
-"""``frontier_rooms_known``: a privileged calibration agent, never ranked.
+"""``oracle_rooms_frontier``: a privileged calibration agent, never ranked.
 
 ``frontier`` (``agents/frontier.py``) told which rooms hold the target: it reads the house
 from the episode's ground truth (``task.privileged.world``: the rooms the target's instances
@@ -27,7 +27,7 @@ from objsearch_agents.frontier import CELL, RADIUS, SIZE, FrontierAgent, Frontie
 
 
 @dataclass(frozen=True)
-class RoomsKnownConfig(FrontierConfig):
+class OracleRoomsConfig(FrontierConfig):
     """``frontier``'s settings and the room bonus."""
 
     room_weight: float = 1000.0
@@ -40,7 +40,7 @@ def target_room_mask(task: AgentTask, margin: float) -> np.ndarray:
     """Bool (SIZE, SIZE) over the agent's map: cells in (or ``margin`` metres from) a room holding the target."""
     path = task.privileged
     if path is None or getattr(path, "world", None) is None:
-        raise ValueError(f"suite {task.suite!r} gives no house ground truth; frontier_rooms_known needs it")
+        raise ValueError(f"suite {task.suite!r} gives no house ground truth; oracle_rooms_frontier needs it")
     world, start = path.world, tuple(path.task.start)
     rooms = {o.room for o in world.spec.objects if o.category == task.goal_name}
     cells = world.graph.cells[np.isin(world.cell_rooms, sorted(rooms))]
@@ -54,10 +54,10 @@ def target_room_mask(task: AgentTask, margin: float) -> np.ndarray:
     return binary_dilation(mask, iterations=grow) if grow else mask
 
 
-class RoomsKnownSlotState(SlotState):
+class OracleRoomsSlotState(SlotState):
     """``frontier``'s episode state, and the map cells of the target's rooms."""
 
-    def __init__(self, task: AgentTask, config: RoomsKnownConfig):
+    def __init__(self, task: AgentTask, config: OracleRoomsConfig):
         super().__init__(task, config)
         self.in_target_room = target_room_mask(task, config.margin)
 
@@ -65,12 +65,12 @@ class RoomsKnownSlotState(SlotState):
         return cost - self.config.room_weight * self.in_target_room[cells[:, 0], cells[:, 1]]
 
 
-class RoomsKnownFrontierAgent(FrontierAgent):
-    """Frontier exploration that knows the target's rooms (``objsearch-eval --agent frontier_rooms_known``;
+class OracleRoomsFrontierAgent(FrontierAgent):
+    """Frontier exploration that knows the target's rooms (``objsearch-eval --agent oracle_rooms_frontier``;
     privileged: it reads ground truth, for calibration only)."""
 
-    config = RoomsKnownConfig()
+    config = OracleRoomsConfig()
     privileged = True
 
-    def new_slot(self, task: AgentTask) -> RoomsKnownSlotState:
-        return RoomsKnownSlotState(task, self.config)
+    def new_slot(self, task: AgentTask) -> OracleRoomsSlotState:
+        return OracleRoomsSlotState(task, self.config)

@@ -1,6 +1,6 @@
 """Who is who: every leaderboard row names the agent its results came from, and agents that
 read ground truth beyond their observations (``privileged = True``: the oracle,
-``frontier_rooms_known``) are marked and never ranked, under whatever entry name."""
+``oracle_rooms_frontier``) are marked and never ranked, under whatever entry name."""
 
 import copy
 import json
@@ -16,7 +16,7 @@ BIN = Path(sys.executable).parent
 
 
 def test_the_registry_says_which_agents_are_privileged(tmp_path):
-    assert is_privileged("oracle") and is_privileged("frontier_rooms_known")
+    assert is_privileged("oracle") and is_privileged("oracle_rooms_frontier")
     assert is_privileged("objsearch_agents.oracle:OracleAgent")  # its registered module:Class
     assert not is_privileged("random") and not is_privileged("frontier") and not is_privileged("no_such_agent")
     # a file agent is never imported to ask (rendering runs no code a submission names)
@@ -32,14 +32,14 @@ def test_the_registry_says_which_agents_are_privileged(tmp_path):
 def test_privileged_rows_come_after_the_ranked_ones_whatever_their_entry_name(oracle_results, random_results):
     renamed = copy.deepcopy(oracle_results)  # the oracle's results under a learned agent's name
     rooms_known = copy.deepcopy(random_results)
-    rooms_known["agent"] = "frontier_rooms_known"
+    rooms_known["agent"] = "oracle_rooms_frontier"
     submissions = [("hrl_grg_v3", renamed), ("oracle", oracle_results), ("random", random_results), ("z", rooms_known)]
     rows = leaderboard_rows(submissions)["gridworld"]["unseen-goals"]
     assert [(r["rank"], r["name"], r["agent"]) for r in rows] == [
         (1, "random", "random"),
         (PRIVILEGED, "hrl_grg_v3", "oracle (privileged)"),
         (PRIVILEGED, "oracle", "oracle (privileged)"),
-        (PRIVILEGED, "z", "frontier_rooms_known (privileged)"),
+        (PRIVILEGED, "z", "oracle_rooms_frontier (privileged)"),
     ]
 
 
