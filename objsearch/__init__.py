@@ -1,23 +1,20 @@
 """objsearch: a benchmark suite for goal-driven object search.
 
-Importing the package registers its Gymnasium environments (``ObjSearch/GridWorld-v0``);
-the environments themselves are imported lazily through string entry points. The Python
-API (``objsearch.api``): ``evaluate(agent, suite, seeds=..., split=...)``, ``make_suite``
-and ``register_suite``, imported on first use.
+Importing the package registers its Gymnasium environments (``objsearch.envs``:
+``ObjSearch/GridWorld-v0``, ``ObjSearch/House-v0``); the environments themselves are imported
+lazily through string entry points. It imports no MuJoCo and leaves ``MUJOCO_GL`` as it is
+(``objsearch.mujoco_gl``). The Python API (``objsearch.api``): ``evaluate(agent, suite,
+seeds=..., split=...)``, ``make_suite`` and ``register_suite``, imported on first use.
 """
 
 from importlib.metadata import PackageNotFoundError, version
+
+from objsearch.envs import register_envs
 
 try:
     __version__ = version("objsearch")
 except PackageNotFoundError:  # running from a source tree that is not installed
     __version__ = "0.0.0+unknown"
-
-from objsearch.mujoco_gl import set_aside_unusable
-
-set_aside_unusable()  # before anything imports mujoco
-
-from objsearch.envs import register_envs  # noqa: E402
 
 register_envs()
 

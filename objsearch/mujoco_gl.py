@@ -1,28 +1,32 @@
-"""``MUJOCO_GL``, looked at before MuJoCo is imported.
+"""``MUJOCO_GL``, read when a renderer is made, never rewritten.
 
-``import mujoco`` reads ``MUJOCO_GL`` once and fails at once on a value it does not know (a
-bare RuntimeError) or on an explicit ``egl`` / ``osmesa`` whose library is missing (an
-AttributeError deep in PyOpenGL), even in commands that render nothing (``--help``, the grid
-world). Importing ``objsearch`` therefore sets such a value aside: it moves to
-``OBJSEARCH_MUJOCO_GL`` (which worker processes inherit), ``MUJOCO_GL`` becomes ``disable``
-for the import, and the first render reports the value in one line
-(``objsearch.sim.glbackend``).
+``import objsearch`` leaves ``MUJOCO_GL`` as the user set it (or unset) and imports no
+MuJoCo. The value chooses the OpenGL backend when the first ``HouseRenderer`` is made
+(``objsearch.sim.glbackend``, which reports a value that cannot render in one line).
+
+One thing has to happen earlier: ``import mujoco`` reads ``MUJOCO_GL`` once and fails at once
+on a value it does not know (a bare RuntimeError) or on an explicit ``egl`` / ``osmesa`` whose
+library is missing (an AttributeError deep in PyOpenGL), even in commands that render nothing
+(``--help``, a house's pose graph). The packages that import MuJoCo (``objsearch.house``,
+``objsearch.sim``, ``objsearch.perception``) therefore call ``import_mujoco`` first: under such
+a value MuJoCo is imported with ``MUJOCO_GL=disable`` (its own ``GLContext``, which objsearch
+never uses, is then off) and the value is put back as soon as the import returns.
 """
 
 from __future__ import annotations
 
 import ctypes.util
 import os
+import sys
 
-SET_ASIDE = "OBJSEARCH_MUJOCO_GL"
 KNOWN = ("", "1", "on", "true", "enable", "enabled", "0", "off", "false", "disable", "disabled")
 KNOWN += ("egl", "osmesa", "glfw", "glx")
 LIBRARIES = {"egl": "EGL", "osmesa": "OSMesa"}
 
 
 def requested() -> str:
-    """The ``MUJOCO_GL`` the user set (also one set aside), '' if none."""
-    return os.environ.get(SET_ASIDE, os.environ.get("MUJOCO_GL", ""))
+    """The ``MUJOCO_GL`` the user set, '' if none."""
+    return os.environ.get("MUJOCO_GL", "")
 
 
 def missing_library(value: str) -> str | None:
@@ -31,11 +35,21 @@ def missing_library(value: str) -> str | None:
     return library if library and ctypes.util.find_library(library) is None else None
 
 
-def set_aside_unusable() -> None:
-    """Move a ``MUJOCO_GL`` that would make ``import mujoco`` fail to ``OBJSEARCH_MUJOCO_GL``."""
+def import_fails(value: str | None) -> bool:
+    """Whether ``import mujoco`` would fail under ``MUJOCO_GL=value`` (None: unset, it would not)."""
+    return value is not None and (value.strip().lower() not in KNOWN or missing_library(value) is not None)
+
+
+def import_mujoco() -> None:
+    """Import MuJoCo now if ``MUJOCO_GL`` holds a value its import would fail on, with
+    ``MUJOCO_GL=disable`` for the import alone; ``os.environ`` is as it was when this returns.
+    Under any other value (or with MuJoCo imported already) nothing is done: MuJoCo is
+    imported where it is needed, as it is."""
     raw = os.environ.get("MUJOCO_GL")
-    if raw is None or SET_ASIDE in os.environ:
+    if "mujoco" in sys.modules or not import_fails(raw):
         return
-    if raw.strip().lower() not in KNOWN or missing_library(raw):
-        os.environ[SET_ASIDE] = raw
-        os.environ["MUJOCO_GL"] = "disable"
+    os.environ["MUJOCO_GL"] = "disable"
+    try:
+        import mujoco  # noqa: F401
+    finally:
+        os.environ["MUJOCO_GL"] = raw

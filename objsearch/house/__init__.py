@@ -13,3 +13,7 @@ and the suites read by name. A version never imports another; what they share li
 version's house. Categories: ``categories``; meshes: ``meshes`` + ``assets``; previews:
 ``preview``, ``plan_canvas``, ``plan_legend``.
 """
+
+from objsearch.mujoco_gl import import_mujoco
+
+import_mujoco()  # before this package imports MuJoCo, whatever MUJOCO_GL holds (objsearch.mujoco_gl)

@@ -41,7 +41,7 @@ import copy
 import math
 from dataclasses import dataclass
 
-import mujoco  # a MUJOCO_GL it would fail on was set aside on `import objsearch` (objsearch.mujoco_gl)
+import mujoco  # importable whatever MUJOCO_GL holds: objsearch/sim/__init__.py (objsearch.mujoco_gl)
 import numpy as np
 
 from objsearch.errors import UserError
