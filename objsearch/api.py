@@ -19,7 +19,7 @@ import numbers
 from pathlib import Path
 from typing import Iterable
 
-from objsearch.eval.config import PAPER_SEEDS
+from objsearch.eval.config import PAPER_SEEDS, check_seeds
 from objsearch.eval.suites import make_suite, register_suite
 
 __all__ = ["evaluate", "make_suite", "register_suite"]
@@ -82,27 +82,9 @@ def evaluate(
         agent=name,
         suite=suite,
         splits=splits,
-        seeds=_seeds(seeds),
+        seeds=check_seeds(seeds),
         checkpoint=checkpoint,
         suite_config=suite_config,
         step_time_limit=step_time_limit,
     )
     return run(config, workers=workers, progress=progress, out=out, batch=batch, agent=instance)
-
-
-def _seeds(seeds) -> tuple[int, ...]:
-    """``seeds`` as a tuple of distinct integers >= 0 (Python or numpy integers), else
-    ``UserError``: ``[1.7, "5"]`` is not silently seeds 1 and 5, as ``--seeds`` refuses it."""
-    from objsearch.errors import UserError
-
-    if isinstance(seeds, (str, bytes)) or not isinstance(seeds, Iterable):
-        raise UserError(f"seeds={seeds!r}: give a list of integers >= 0, e.g. seeds=[1, 5]")
-    out = tuple(seeds)
-    bad = [s for s in out if isinstance(s, bool) or not isinstance(s, numbers.Integral) or s < 0]
-    if bad or not out:
-        raise UserError(
-            f"seeds={list(out)!r}: {bad[0]!r} is not an integer >= 0" if bad else "seeds=[]: give one seed or more"
-        )
-    if len(set(out)) != len(out):
-        raise UserError(f"seeds={list(out)!r}: a seed is given twice (each episode would count twice)")
-    return tuple(int(s) for s in out)

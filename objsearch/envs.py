@@ -1,5 +1,15 @@
 """Registration of objsearch's Gymnasium environments (string entry points: nothing heavy
-is imported until an environment is made), and the action check both envs share."""
+is imported until an environment is made), and the action check the envs share.
+
+* ``ObjSearch/GridWorld-v0``: the paper's grid world (``objsearch.gridworld.env.GridWorldEnv``).
+* ``ObjSearch/House-v1``: sampled tasks in MuJoCo houses (``objsearch.sim.env.HouseEnv``).
+  ``ObjSearch/House-v0`` keeps the observation keys v0 was released with (``rgb``,
+  ``depth``, ``semantic``, ``target``; ``objsearch.sim.env_v0``): old ids keep working.
+* ``ObjSearch/Suite-v1``: a suite's fixed episodes, in the order ``objsearch-eval`` plays
+  them (``objsearch.eval.suite_env.SuiteEnv``; ``suite=`` and ``split=`` name them).
+
+Every env's docstring has a Version History; a change to what an id gives is a new version.
+"""
 
 from __future__ import annotations
 
@@ -10,10 +20,15 @@ import gymnasium
 ENVS = {
     "ObjSearch/GridWorld-v0": {"entry_point": "objsearch.gridworld.env:GridWorldEnv"},
     "ObjSearch/House-v0": {
+        "entry_point": "objsearch.sim.env_v0:HouseEnvV0",
+        "vector_entry_point": "objsearch.sim.env_v0:HouseVectorEnvV0",
+    },
+    "ObjSearch/House-v1": {
         "entry_point": "objsearch.sim.env:HouseEnv",
         # gymnasium.make_vec(..., vectorization_mode="vector_entry_point"): the batched cached env
         "vector_entry_point": "objsearch.sim.vector:HouseVectorEnv",
     },
+    "ObjSearch/Suite-v1": {"entry_point": "objsearch.eval.suite_env:SuiteEnv"},
 }
 
 

@@ -3,10 +3,30 @@ and every partial-results file) and the unit an evaluation is made of."""
 
 from __future__ import annotations
 
+import numbers
 from dataclasses import asdict, dataclass, field
+from typing import Iterable
 
 PAPER_SEEDS = (1, 5, 13, 45, 99)
 Unit = tuple[str, int, int]  # (split, seed, episode_id): one episode played with one seed
+
+
+def check_seeds(seeds: Iterable[int]) -> tuple[int, ...]:
+    """``seeds`` as a tuple of distinct integers >= 0 (Python or numpy integers), else
+    ``UserError``: ``[1.7, "5"]`` is not silently seeds 1 and 5, as ``--seeds`` refuses it."""
+    from objsearch.errors import UserError
+
+    if isinstance(seeds, (str, bytes)) or not isinstance(seeds, Iterable):
+        raise UserError(f"seeds={seeds!r}: give a list of integers >= 0, e.g. seeds=[1, 5]")
+    out = tuple(seeds)
+    bad = [s for s in out if isinstance(s, bool) or not isinstance(s, numbers.Integral) or s < 0]
+    if bad or not out:
+        raise UserError(
+            f"seeds={list(out)!r}: {bad[0]!r} is not an integer >= 0" if bad else "seeds=[]: give one seed or more"
+        )
+    if len(set(out)) != len(out):
+        raise UserError(f"seeds={list(out)!r}: a seed is given twice (each episode would count twice)")
+    return tuple(int(s) for s in out)
 
 
 @dataclass(frozen=True)

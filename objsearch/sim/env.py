@@ -1,4 +1,5 @@
-"""``ObjSearch/House-v0``: find an object category in a generated MuJoCo house."""
+"""``ObjSearch/House-v1``: find an object category in a generated MuJoCo house (``House-v0``:
+``objsearch.sim.env_v0``)."""
 
 from __future__ import annotations
 
@@ -109,7 +110,7 @@ def draw_start(dist: np.ndarray, rng: np.random.Generator, near: np.ndarray | No
 def check_max_steps(value) -> int:
     """``max_steps`` as an int if it is an integer >= 1 (a Python or numpy integer, or a float
     with no fraction); else ``ValueError`` naming it: ``-5``, ``0``, ``2.5``, ``True`` or ``"100"``
-    are not step limits (``gymnasium.make("ObjSearch/House-v0", max_steps=-5)`` says so, not a ``Box``)."""
+    are not step limits (``gymnasium.make("ObjSearch/House-v1", max_steps=-5)`` says so, not a ``Box``)."""
     whole = isinstance(value, numbers.Integral) or (isinstance(value, float) and value.is_integer())
     if isinstance(value, bool) or not whole or value < 1:
         raise ValueError(
@@ -223,14 +224,15 @@ class HouseEnv(gymnasium.Env):
     (``objsearch.sim.cache.PredictedCache``); ``rgb`` and success stay ground truth.
 
     ## Version History
-    * v0: initial release (pose graph navgraph-v1, goal rule goals-v1); ``observation=
-      "predicted"`` added later (the default ``gt`` is unchanged); ``starts="entrance"`` added
-      later (the default ``anywhere`` samples the same tasks as before); the ``pose`` and
-      ``collided`` keys and the reset ``info["camera"]`` added later (computed from the
-      state: the other keys, caches and records are unchanged); the reset
-      ``info["stop_action"]`` and ``info["goal_rule"]`` added later; with ``stop_action``,
-      ``min_steps`` counts the STOP (before, only the moves; no suite used it then);
-      ``room_max_steps`` added later (without it every episode's limit is ``max_steps``, as before).
+    * v1: the ``pose`` and ``collided`` observation keys. They were first added to v0 in
+      place; ``ObjSearch/House-v0`` (``objsearch.sim.env_v0.HouseEnvV0``) gives v0's four keys
+      again. Everything else is as v0 is now (below).
+    * v0: initial release (pose graph navgraph-v1, goal rule goals-v1): observation keys
+      ``rgb``, ``depth``, ``semantic``, ``target``. Added later, with defaults that keep the
+      tasks, observations and records as they were: ``observation="predicted"``,
+      ``starts="entrance"``, ``room_max_steps``, the reset ``info["camera"]``,
+      ``info["stop_action"]`` and ``info["goal_rule"]``; with ``stop_action``, ``min_steps``
+      counts the STOP (before, only the moves; no suite used it then).
     """
 
     metadata = {"render_modes": ["rgb_array"], "render_fps": 4}

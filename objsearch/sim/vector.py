@@ -22,7 +22,7 @@ from objsearch.sim.env import MOVES, HouseEnv, relative_pose
 
 
 class HouseVectorEnv(gymnasium.vector.VectorEnv):
-    """``num_envs`` cached ``ObjSearch/House-v0`` episodes; keyword arguments as ``HouseEnv``
+    """``num_envs`` cached ``ObjSearch/House-v1`` episodes; keyword arguments as ``HouseEnv``
     (``mode`` is always ``cached``, so ``observation="predicted"`` reads the predicted
     cache; the STOP variant is not supported here)."""
 

@@ -23,7 +23,7 @@ def env(cache_dir, small_house):
 def test_passes_check_env(cache_dir, small_house):
     with warnings.catch_warnings():
         warnings.simplefilter("error")
-        env = gymnasium.make("ObjSearch/House-v0", houses=[small_house], cache_dir=cache_dir)
+        env = gymnasium.make("ObjSearch/House-v1", houses=[small_house], cache_dir=cache_dir)
         check_env(env.unwrapped)
         env.close()
         env.close()
@@ -166,7 +166,7 @@ def test_small_observation_wrappers(cache_dir, small_house):
 
 def test_vector_env(cache_dir, small_house):
     envs = gymnasium.make_vec(
-        "ObjSearch/House-v0", num_envs=2, vectorization_mode="sync", houses=[small_house], cache_dir=cache_dir
+        "ObjSearch/House-v1", num_envs=2, vectorization_mode="sync", houses=[small_house], cache_dir=cache_dir
     )
     obs, _ = envs.reset(seed=0)
     assert obs["rgb"].shape == (2, 64, 64, 3)
@@ -177,7 +177,7 @@ def test_vector_env(cache_dir, small_house):
 
 def test_batched_vector_env(cache_dir, small_house):
     envs = gymnasium.make_vec(
-        "ObjSearch/House-v0",
+        "ObjSearch/House-v1",
         num_envs=8,
         vectorization_mode="vector_entry_point",
         houses=[small_house],
@@ -218,3 +218,28 @@ def test_cache_is_keyed_and_rebuilt_when_stale(small_world, tmp_path):
     rebuilt = HouseCache.open(small_world, small, tmp_path, progress=False)
     assert rebuilt.directory == cache.directory and np.array_equal(rebuilt.semantic, first)
     assert not [p for p in tmp_path.iterdir() if p.name.endswith(".tmp")], "no temp folder left behind"
+
+
+def test_house_v0_keeps_the_keys_it_was_released_with(cache_dir, small_house):
+    """``House-v1`` added ``pose`` and ``collided``; the v0 id gives v0's keys, the same values."""
+    kwargs = {"houses": [small_house], "cache_dir": cache_dir}
+    with pytest.warns(DeprecationWarning, match="upgrading to version `v1`"):  # Gymnasium says so of an old id
+        old = gymnasium.make("ObjSearch/House-v0", **kwargs)
+    new = gymnasium.make("ObjSearch/House-v1", **kwargs)
+    assert set(old.observation_space) == {"rgb", "depth", "semantic", "target"}
+    assert set(new.observation_space) == {"rgb", "depth", "semantic", "target", "pose", "collided"}
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        check_env(old.unwrapped)
+    (a, _), (b, _) = old.reset(seed=3), new.reset(seed=3)
+    for action in [0, 1, 0, 3, 2]:
+        assert set(a) == set(old.observation_space) and a in old.observation_space
+        assert all(np.array_equal(a[key], b[key]) for key in a)
+        a, b = old.step(action)[0], new.step(action)[0]
+    with pytest.warns(DeprecationWarning):
+        envs = gymnasium.make_vec("ObjSearch/House-v0", num_envs=2, vectorization_mode="vector_entry_point", **kwargs)
+    obs, _ = envs.reset(seed=0)
+    assert set(obs) == {"rgb", "depth", "semantic", "target"} and envs.observation_space.contains(obs)
+    assert envs.observation_space.contains(envs.step(np.array([0, 1]))[0])
+    for env in (old, new, envs):
+        env.close()

@@ -25,7 +25,9 @@ A suite class provides:
   definition of success, owned by the env);
 * ``config() -> dict``: the config that rebuilds it (``make_suite(name, **config)``).
 
-Classes are imported only when a suite is used.
+Classes are imported only when a suite is used. Through these, any suite is also one
+Gymnasium env, ``ObjSearch/Suite-v1`` (``objsearch.eval.suite_env``), which plays its
+episodes in the harness's order.
 """
 
 from __future__ import annotations

@@ -2,7 +2,7 @@
 and suite files made by ``objsearch suite make``, all played by ``HouseSuite``.
 
 Episodes come from the suite files of ``objsearch.sim.suites``; the env is
-``ObjSearch/House-v0`` in ``cached`` mode by default (``objsearch cache build --suite NAME``
+``ObjSearch/House-v1`` in ``cached`` mode by default (``objsearch cache build --suite NAME``
 renders the caches ahead; otherwise an evaluation builds the missing ones first, as a stage
 of its own, ``HouseSuite.prepare``) or
 ``live``. Agents see ``objsearch.sim.camera.AGENT_CAMERA``; goal poses come from the suite

@@ -1,18 +1,22 @@
 """objsearch's environments as ``dm_env.Environment``s, for the DeepMind ecosystem (Acme
-agents, dm_control-style loops).
+agents, dm_control-style loops). (Named ``dm_adapter``, not ``dm_env``, so that it never
+stands in for the package it wraps.)
 
-``grid_world(**kwargs)`` and ``house(**kwargs)`` make the Gymnasium envs
-``ObjSearch/GridWorld-v0`` and ``ObjSearch/House-v0`` with those arguments and wrap them in
-``GymnasiumEnvironment``, which exposes them as dm_control's suites do: ``observation_spec()``
-a dict of named specs (a ``Box`` key a ``BoundedArray``, a ``Discrete`` key a scalar
-``DiscreteArray``), ``action_spec()`` a ``DiscreteArray`` named ``action``, and ``TimeStep``s
-whose discount is 0 when the episode terminates (the goal is reached) and 1 when it is
-truncated (the step limit).
+``grid_world(**kwargs)``, ``house(**kwargs)`` and ``suite(name, **kwargs)`` make the Gymnasium
+envs ``ObjSearch/GridWorld-v0``, ``ObjSearch/House-v1`` and ``ObjSearch/Suite-v1`` with those
+arguments and wrap them in ``GymnasiumEnvironment``, which exposes them as dm_control's suites
+do: ``observation_spec()`` a dict of named specs (a ``Box`` key a ``BoundedArray``, a
+``Discrete`` key a scalar ``DiscreteArray``), ``action_spec()`` a ``DiscreteArray`` named
+``action``, and ``TimeStep``s whose discount is 0 when the episode terminates (the goal is
+reached, or STOP is called) and 1 when it is truncated (the step limit).
+``suite("house-single", split="seen-goals")`` is the one call of dm_control's
+``suite.load(domain, task)``: it plays that split's fixed episodes in order, as
+``objsearch-eval`` does.
 
 Randomness is explicit: ``seed`` seeds the env's Generator on the first ``reset()``; later
-episodes continue from it, so the same seed gives the same episodes. ``info`` holds the
-Gymnasium ``info`` of the last reset or step (``success``, ``steps``, ``min_steps``, ...),
-which ``TimeStep`` has no place for.
+episodes continue from it, so the same seed gives the same episodes (a suite's episodes are
+fixed whatever the seed). ``info`` holds the Gymnasium ``info`` of the last reset or step
+(``success``, ``steps``, ``min_steps``, ...), which ``TimeStep`` has no place for.
 """
 
 from __future__ import annotations
@@ -26,7 +30,8 @@ from dm_env import specs
 from gymnasium import spaces
 
 GRID_WORLD_ID = "ObjSearch/GridWorld-v0"
-HOUSE_ID = "ObjSearch/House-v0"
+HOUSE_ID = "ObjSearch/House-v1"
+SUITE_ID = "ObjSearch/Suite-v1"
 
 
 def _spec(name: str, space: gymnasium.Space) -> specs.Array:
@@ -105,3 +110,9 @@ def grid_world(seed: int | None = None, **kwargs) -> GymnasiumEnvironment:
 def house(seed: int | None = None, **kwargs) -> GymnasiumEnvironment:
     """The 3D houses (``objsearch.sim.env.HouseEnv(**kwargs)``, e.g. ``houses=[HouseRef(seed=3)]``) as a dm_env."""
     return GymnasiumEnvironment(gymnasium.make(HOUSE_ID, disable_env_checker=True, **kwargs), seed)
+
+
+def suite(name: str, seed: int | None = None, **kwargs) -> GymnasiumEnvironment:
+    """A suite's fixed episodes (``objsearch.eval.suite_env.SuiteEnv(name, **kwargs)``, e.g.
+    ``split="seen-goals"``) as a dm_env: each ``reset()`` starts the next episode."""
+    return GymnasiumEnvironment(gymnasium.make(SUITE_ID, disable_env_checker=True, suite=name, **kwargs), seed)
