@@ -1,8 +1,9 @@
-"""Double DQN updates for the grid-world networks (van Hasselt et al. 2016).
+"""Double DQN updates (van Hasselt et al. 2016), for the Q-networks of both worlds.
 
 One ``Learner`` per level: online and target networks, RMSProp, loss 0.5 * mean squared
-TD error, gradients clipped by global norm, hard target copies. The TD target of each kind
-of level is a small function (``flat_loss``, ``hdqn_high_loss``, ``grg_high_loss``).
+TD error (``td_loss``), gradients clipped by global norm, hard target copies; the grid-world
+and house agents share them. The TD targets of the grid world's levels are small functions
+here (``flat_loss``, ``hdqn_high_loss``, ``grg_high_loss``); the houses' are in ``house.world``.
 """
 
 from __future__ import annotations

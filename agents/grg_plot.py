@@ -170,5 +170,5 @@ def plot_grg(
     return [*(f"{a:>16} -> {b:<16} {w:.2f}" for a, b, w in strongest), f"wrote {out}"]
 
 
-if __name__ == "__main__":  # the old entry point, gone: say where it went
+if __name__ == "__main__":  # `python -m` of this module, a command until 2026-12-02: name its replacement
     raise SystemExit("python -m objsearch_agents.grg_plot is now: objsearch plot grg RUN [--out FILE]")

@@ -325,7 +325,8 @@ class ScenePriorsConfig(JsonConfig):
     lr_decay_steps: int = 10_000_000
     """Environment steps over which the learning rate falls from ``lr`` to ``lr_end``."""
     rmsprop_alpha: float = 0.99
-    """RMSProp decay (TensorFlow 1's default)."""
+    """RMSProp decay of the squared-gradient average (PyTorch's default, as the other house
+    agents'; the grid world's 0.9 is TensorFlow 1's)."""
     rmsprop_eps: float = 1e-5
     """RMSProp epsilon."""
     max_grad_norm: float = 40.0

@@ -49,7 +49,8 @@ class HouseAgentConfig(JsonConfig):
     ac_lr: float = 5e-4
     """RMSProp learning rate of the actor-critics (batched A2C: one update per rollout of all envs)."""
     rmsprop_alpha: float = 0.99
-    """RMSProp decay (TensorFlow 1's default)."""
+    """RMSProp decay of the squared-gradient average (PyTorch's default, and A3C's; the grid
+    world's 0.9 is TensorFlow 1's)."""
     rmsprop_eps: float = 1e-5
     """RMSProp epsilon."""
     max_grad_norm: float = 40.0

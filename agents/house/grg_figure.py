@@ -92,5 +92,5 @@ def draw(edges: list[tuple[str, str, float]], size: int = 720) -> np.ndarray:
     return img
 
 
-if __name__ == "__main__":  # the old entry point, gone: say where it went
+if __name__ == "__main__":  # `python -m` of this module, a command until 2026-12-02: name its replacement
     raise SystemExit("python -m objsearch_agents.house.grg_figure is now: objsearch plot grg RUN [--out FILE]")

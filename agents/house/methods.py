@@ -3,7 +3,9 @@
 The names are the grid world's (``dqn``, ``hdqn``, ``hrl_grg``, ...; the grid-world class
 of each hands house suites to the class here) plus those that exist only in the houses:
 ``a3c``, and ``hdqn_explorer`` and ``hrl_grg_explorer``, the paper's methods with a trained
-A3C in the back-up node (``docs/house_agents.md``). Each class is a ``HouseAgentConfig``; the method lives in ``policy`` and ``train``.
+A3C in the back-up node (``docs/house_agents.md``). Each class is a ``HouseAgentConfig`` naming
+its method; the method itself is one module, ``objsearch_agents.methods.<method>``, which the
+houses run through their adapter (``house.world``) in ``house.policy`` and ``house.train``.
 """
 
 from dataclasses import replace

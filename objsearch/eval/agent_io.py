@@ -182,5 +182,5 @@ def rebuild_doc(check: bool = False) -> int:
     return 0
 
 
-if __name__ == "__main__":  # the old entry point, gone: say where it went
+if __name__ == "__main__":  # `python -m` of this module, a command until 2026-12-02: name its replacement
     raise SystemExit(f"python -m objsearch.eval.agent_io is now: {COMMAND} [--check]")

@@ -128,7 +128,7 @@ def configure(parser: argparse.ArgumentParser) -> argparse.ArgumentParser:
         default=DEFAULT_VIDEO_EPISODES,
         metavar="N",
         help=f"with --video: episodes per split that get pictures; they play one at a time, the "
-        f"rest batched (default: {DEFAULT_VIDEO_EPISODES}; what each costs: README)",
+        f"rest batched (default: {DEFAULT_VIDEO_EPISODES}; what each costs: docs/video.md)",
     )
     parser.add_argument("--list-agents", action="store_true", help="list the installed agents and exit")
     parser.add_argument(

@@ -195,7 +195,7 @@ def check_protocol(spec: str, protocols, suite: str) -> None:
             f" (objsearch suite make --protocol paper makes one of {suite}'s houses)" if suite.endswith(".json") else ""
         )
     raise UserError(
-        f"agent {spec!r} plays the {' and '.join(protocols)} protocol, not suite {suite!r}'s {protocol}: "
+        f"agent {spec!r} plays the {' and '.join(protocols)} protocol, not the {protocol} protocol of suite {suite!r}: "
         f"learned agents have no STOP action, and {protocol} counts success only when the agent calls STOP at the "
         f"goal; use a suite of the paper protocol{twin}"
     )

@@ -90,5 +90,5 @@ def split_tasks(split: str) -> list[GridTask]:
     return load_tasks(DATA_DIR / "tasks" / f"{split}.jsonl", test_maps())
 
 
-if __name__ == "__main__":  # the old entry point, gone: say where it went
+if __name__ == "__main__":  # `python -m` of this module, a command until 2026-12-02: name its replacement
     raise SystemExit("python -m objsearch.gridworld.dataset is now: objsearch data rebuild gridworld [--out DIR]")

@@ -93,5 +93,5 @@ def mesh_bytes(category: str, variant: str) -> bytes:
     return (assets_dir() / "meshes" / mesh_file(category, variant)).read_bytes()
 
 
-if __name__ == "__main__":  # the old entry point, gone: say where it went
+if __name__ == "__main__":  # `python -m` of this module, a command until 2026-12-02: name its replacement
     raise SystemExit("python -m objsearch.house.assets is now: objsearch data rebuild assets [--out DIR]")

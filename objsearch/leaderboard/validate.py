@@ -67,7 +67,7 @@ OBSERVATION_OPTIONS = ("observation", "perception", "perception_key")
 
 
 # Parsing limits: a hostile file is refused with a message, never a traceback or a stall.
-MAX_BYTES = 32 * 2**20  # a full suite's results are under 1 MB
+MAX_BYTES = 32 * 2**20  # the largest stored entries (rooms: 4,000 episodes x 5 seeds) are 16 MB
 MAX_DEPTH = 16  # a results JSON nests 5 deep (results > episodes > record > task > start)
 MAX_DIGITS = 20  # digits of a number: any 64-bit integer; Python's own limit, 4300, is a traceback
 _JSON_STRING = re.compile(rb'"[^"\\]*(?:\\.[^"\\]*)*"')

@@ -109,7 +109,7 @@ def test_bad_override_and_untrainable_agent(tmp_path):
 def test_a_suite_the_agent_cannot_play_is_refused_before_training(tmp_path):
     # an ObjectNav suite needs STOP, which the learned agents lack; a house agent cannot train in the grid world
     for agent, suite, reason in [
-        ("a3c", "house-gen-v2-objectnav", "plays the paper protocol"),
+        ("a3c", "house-gen-v2-objectnav", "plays the paper protocol, not the objectnav protocol of suite 'house-gen"),
         ("a3c", "gridworld", "runs in the house world"),
     ]:
         out = tmp_path / agent / suite
