@@ -6,13 +6,17 @@ is imported until an environment is made), and the action check the envs share.
   ``ObjSearch/House-v0`` keeps the observation keys v0 was released with (``rgb``,
   ``depth``, ``semantic``, ``target``; ``objsearch.sim.env_v0``): old ids keep working.
 * ``ObjSearch/Suite-v1``: a suite's fixed episodes, in the order ``objsearch-eval`` plays
-  them (``objsearch.eval.suite_env.SuiteEnv``; ``suite=`` and ``split=`` name them).
+  them (``objsearch.eval.suite_env.SuiteEnv``; ``suite=`` and ``split=`` name them), and
+  ``ObjSearch/<suite>-v1`` for every shipped suite (``gridworld`` and the files of
+  ``objsearch/sim/data``), the same env with ``suite=`` given, as the design asks (one id a
+  shipped suite): ``gymnasium.make("ObjSearch/house-large-v1", split="test")``.
 
 Every env's docstring has a Version History; a change to what an id gives is a new version.
 """
 
 from __future__ import annotations
 
+from pathlib import Path
 from typing import Sequence
 
 import gymnasium
@@ -30,6 +34,11 @@ ENVS = {
     },
     "ObjSearch/Suite-v1": {"entry_point": "objsearch.eval.suite_env:SuiteEnv"},
 }
+# The shipped suites by their files (read without importing objsearch.sim, which imports MuJoCo;
+# tests/sim/test_shipped_suite_files.py checks that the files are the shipped suites).
+SHIPPED_SUITE_NAMES = ("gridworld", *sorted(p.stem for p in (Path(__file__).parent / "sim" / "data").glob("*.json")))
+for _name in SHIPPED_SUITE_NAMES:
+    ENVS[f"ObjSearch/{_name}-v1"] = {"entry_point": "objsearch.eval.suite_env:SuiteEnv", "kwargs": {"suite": _name}}
 
 
 def register_envs() -> None:

@@ -79,6 +79,18 @@ def test_the_grid_world_too_and_every_standard_episode_in_order():
     assert full.units[:2] == [("seen-goals", 1, 0), ("seen-goals", 1, 1)] and full.units[-1] == ("unseen-goals", 99, 99)
 
 
+def test_every_shipped_suite_has_its_own_id_that_is_suite_v1_with_its_name():
+    from objsearch.eval.suites import SUITES
+    from objsearch.sim.suites import SUITE_NAMES
+
+    assert {"gridworld", *SUITE_NAMES} <= set(SUITES)
+    for name in ("gridworld", *SUITE_NAMES):
+        assert gymnasium.spec(f"ObjSearch/{name}-v1").kwargs == {"suite": name}
+    own = gymnasium.make("ObjSearch/gridworld-v1", split="seen-goals", seeds=[5], episodes=3)
+    same = gymnasium.make("ObjSearch/Suite-v1", suite="gridworld", split="seen-goals", seeds=[5], episodes=3)
+    assert play(own, RandomAgent()) == play(same, RandomAgent())
+
+
 def test_reset_with_a_seed_starts_over_and_the_env_passes_check_env():
     env = gymnasium.make("ObjSearch/Suite-v1", suite="gridworld", split="seen-goals", seeds=[1, 5], episodes=2)
     order = [env.reset()[1] for _ in range(5)]
