@@ -1,29 +1,31 @@
-"""The large-house tier: ``house-large``, ``house-large-roomwise`` and ``house-large-shuffled``.
+"""The large-house tier (``house-large``, ``house-large-roomwise``, ``house-large-shuffled``) and
+its size sweep (``house-size-N`` and ``house-size-N-shuffled`` for N = 4, 7, 10, 14 rooms).
 
-Search in houses where it decides (``docs/large_houses.md``):
+Search in houses where it decides (``docs/large_houses.md``). A ``Tier`` is a family of suites
+drawn together, one per placement of the objects (``LARGE``, ``SWEEP``):
 
-* **Houses.** ``house-gen-3`` houses of 9-14 rooms (size class ``xlarge``): ``TRAIN_COUNT``
-  training houses (listed, no episodes), ``VAL_COUNT`` validation and ``TEST_COUNT`` test houses
-  (generated as split ``test``: unseen object instances), the first seeds of ``TRAIN_SEEDS``,
-  ``VAL_SEEDS`` and ``TEST_SEEDS`` whose house is valid in all three placements
-  (``PLACEMENTS``; a roomwise or shuffled house that finds no valid arrangement skips the seed).
-  The three suites have the same seeds; only the places of the objects differ.
+* **Houses.** ``house-gen-3`` houses of the tier's size class (``LARGE``: ``xlarge``, 9-14
+  rooms): training houses (listed, no episodes), validation and test houses (generated as split
+  ``test``: unseen object instances), the first seeds of the tier's seed ranges whose house is
+  valid in all its placements (a roomwise or shuffled house that finds no valid arrangement
+  skips the seed). A tier's suites have the same seeds; only the places of the objects differ.
 * **Targets.** Small objects (``house-gen-3``'s ``SMALL_TARGETS``: a cup, a book, an alarm
   clock, ...), at most one of each per house, seen only from close by at the agent camera's
-  64 x 64: those with goal poses in at least half of the evaluation houses in every placement.
+  64 x 64: those with goal poses in at least half of the evaluation houses in every placement (the
+  sweep: six targets, each drawn in every house that has it).
 * **Success.** The ObjectNav protocol (STOP at a goal pose, 500 steps) with the tier's goal
   rule ``RULE``: at least 5 target pixels of the 64 x 64 goal camera nearer than 1 m (a 10 cm
   cup 1 m away covers 5-15 of them; the 20 of ``house-gen-v2-objectnav`` are for furniture).
-* **Episodes.** ``EPISODES`` per split (``val``, ``test``), played with the one seed ``SEEDS``
-  (the file's standard seeds), the same in all three suites: a
+* **Episodes.** ``Tier.episodes`` per split, played with the one seed ``Tier.seeds_played``
+  (the file's standard seeds), the same in all the tier's suites: a
   uniform house, a uniform target it has in every placement, and a start drawn uniformly
   among the poses that, in every placement, are free, reach the target's goal poses, lie at
-  least ``MIN_GEODESIC`` metres (walking) from the nearest goal pose, and lie in a room at
-  least ``MIN_ROOM_HOPS`` doors from every room that holds the target. Each file records its
+  least ``Tier.min_geodesic`` metres (walking) from the nearest goal pose, and lie in a room at
+  least ``Tier.min_room_hops`` doors from every room that holds the target. Each file records its
   own goal poses and ``min_steps`` (the STOP included), and every episode's ``geodesic``
   distance (m, in that file's placement) for results by distance bin.
 
-``build_large_suites`` makes the three files at once (``objsearch suite rebuild house-large``
+``build_tier_suite`` makes a tier's files at once (``objsearch suite rebuild house-large``
 builds the one asked for the same way). Rendering: the goal camera's cache of every
 evaluation house in every placement (``objsearch.sim.cache``; about 10 s and 160 MB a house).
 """
@@ -31,7 +33,7 @@ evaluation house in every placement (``objsearch.sim.cache``; about 10 s and 160
 from __future__ import annotations
 
 from collections import deque
-from dataclasses import replace
+from dataclasses import dataclass, replace
 from functools import lru_cache
 
 import numpy as np
@@ -43,41 +45,108 @@ from objsearch.sim.goals import PROTOCOLS, GoalRule
 from objsearch.sim.world import HouseRef, World
 
 GENERATOR = "house-gen-3"
-SIZE_CLASS = "xlarge"
-#: The suites of the tier by the placement of their houses' objects (the first is the base).
-PLACEMENTS = {"house-large": "functional", "house-large-roomwise": "roomwise", "house-large-shuffled": "shuffled"}
-TRAIN_SEEDS, VAL_SEEDS, TEST_SEEDS = range(1000, 1200), range(2000, 2100), range(3000, 3100)
-TRAIN_COUNT, VAL_COUNT, TEST_COUNT = 60, 5, 10
 RULE = GoalRule(kind="near_visible", min_pixels=5, max_distance=1.0)
 PROTOCOL = replace(PROTOCOLS["objectnav"], goal_rule=RULE)
-EPISODES = {"val": 100, "test": 200}
-#: The standard seeds (the file's ``seeds``): one; 300 long episodes carry the statistics, and the
+
+
+@dataclass(frozen=True)
+class Tier:
+    """A family of suites built together: the same houses, starts and targets, one suite per
+    placement of the houses' objects (the module docstring).
+
+    Attributes:
+        placements: the suite names and their placement, the base (``functional``) first.
+        size_class: the ``house-gen-3`` size class of the houses.
+        seeds: the generator seeds tried, in order, for each part (``train``, ``val``, ``test``).
+        counts: the houses of each part (``train``: listed, no episodes).
+        episodes: the episodes of each evaluation split.
+        min_geodesic: the fewest walking metres from a start to the nearest goal pose.
+        min_room_hops: the fewest doors from a start's room to every room holding the target.
+        build_seed: the seed of the draws.
+        seeds_played: the standard seeds (the file's ``seeds``).
+        targets: the small targets it may draw (None: all); of these, those with goal poses in
+            at least ``target_share`` of the evaluation houses (and one) in every placement.
+        target_share: see ``targets``.
+    """
+
+    placements: dict[str, str]
+    size_class: str
+    seeds: dict[str, range]
+    counts: dict[str, int]
+    episodes: dict[str, int]
+    min_geodesic: float
+    min_room_hops: int
+    build_seed: int
+    seeds_played: tuple[int, ...] = (1,)
+    targets: tuple[str, ...] | None = None
+    target_share: float = 0.5
+
+    @property
+    def names(self) -> tuple[str, ...]:
+        """The tier's suites, the base first."""
+        return tuple(self.placements)
+
+
+#: The large-house tier. One standard seed: 300 long episodes carry the statistics, and the
 #: paper's five would make a 20-minute evaluation of ``frontier`` on one core 100 minutes.
-SEEDS = (1,)
-MIN_GEODESIC = 8.0
-MIN_ROOM_HOPS = 2
-BUILD_SEED = 40
+LARGE = Tier(
+    placements={"house-large": "functional", "house-large-roomwise": "roomwise", "house-large-shuffled": "shuffled"},
+    size_class="xlarge",
+    seeds={"train": range(1000, 1200), "val": range(2000, 2100), "test": range(3000, 3100)},
+    counts={"train": 60, "val": 5, "test": 10},
+    episodes={"val": 100, "test": 200},
+    min_geodesic=8.0,
+    min_room_hops=2,
+    build_seed=40,
+)
+#: The size sweep (``docs/large_houses.md``): the same generator at 4, 7, 10 and 14 rooms,
+#: functional and shuffled, for the curve of a prior's gain against house size. Test houses
+#: only (a prior is counted on ``house-large``'s training houses), a start rule every size can
+#: meet (another room than every one holding the target, at least 4 m away walking) and the
+#: targets of the rooms every size has (4 rooms: a living room, a kitchen, a bedroom, a
+#: bathroom), each drawn in every house that has it.
+SWEEP_ROOMS = (4, 7, 10, 14)
+SWEEP_TARGETS = ("alarm_clock", "book", "pot", "remote_control", "soap", "toilet_paper")
+SWEEP = {
+    rooms: Tier(
+        placements={f"house-size-{rooms}": "functional", f"house-size-{rooms}-shuffled": "shuffled"},
+        size_class=f"rooms-{rooms}",
+        seeds={"test": range(4000 + 100 * rooms, 4100 + 100 * rooms)},
+        counts={"test": 8},
+        episodes={"test": 150},
+        min_geodesic=4.0,
+        min_room_hops=1,
+        build_seed=50 + rooms,
+        targets=SWEEP_TARGETS,
+        target_share=0.0,
+    )
+    for rooms in SWEEP_ROOMS
+}
+TIERS = {name: tier for tier in (LARGE, *SWEEP.values()) for name in tier.names}
+# The large tier's values, by the names the tests and docs use.
+PLACEMENTS = LARGE.placements
+MIN_GEODESIC, MIN_ROOM_HOPS = LARGE.min_geodesic, LARGE.min_room_hops
 
 
-def house_ref(seed: int, split: str, placement: str) -> HouseRef:
-    """The reference of the tier's house of ``seed`` in generator split ``split`` and ``placement``."""
+def house_ref(tier: Tier, seed: int, split: str, placement: str) -> HouseRef:
+    """The reference of ``tier``'s house of ``seed`` in generator split ``split`` and ``placement``."""
     return HouseRef(
         seed=seed,
         split=split,
-        size_class=SIZE_CLASS,
+        size_class=tier.size_class,
         generator=GENERATOR,
         placement=None if placement == "functional" else placement,
     )
 
 
-def _valid_worlds(seed: int, split: str) -> dict[str, World] | None:
+def _valid_worlds(tier: Tier, seed: int, split: str) -> dict[str, World] | None:
     """The house of ``seed`` in every placement (by placement), or None if one is not valid."""
     from objsearch.house.generate import HouseGenerationError
 
     worlds = {}
-    for placement in PLACEMENTS.values():
+    for placement in tier.placements.values():
         try:
-            world = World.load(house_ref(seed, split, placement))
+            world = World.load(house_ref(tier, seed, split, placement))
         except HouseGenerationError:
             return None
         if not validate_house(world.spec, world.model).ok:
@@ -86,11 +155,14 @@ def _valid_worlds(seed: int, split: str) -> dict[str, World] | None:
     return worlds
 
 
-def pick_houses(seeds: range, split: str, count: int) -> list[dict[str, World]]:
-    """The first ``count`` seeds of ``seeds`` valid in every placement, each as ``{placement: World}``."""
+def pick_houses(tier: Tier, part: str) -> list[dict[str, World]]:
+    """The first ``tier.counts[part]`` seeds of ``tier.seeds[part]`` valid in every placement of
+    ``tier``, each as ``{placement: World}`` (generator split ``train`` for the training part,
+    ``test``, unseen object instances, for the others)."""
+    seeds, count, split = tier.seeds[part], tier.counts[part], "train" if part == "train" else "test"
     picked = []
     for seed in seeds:
-        worlds = _valid_worlds(seed, split)
+        worlds = _valid_worlds(tier, seed, split)
         if worlds is not None:
             picked.append(worlds)
             if len(picked) == count:
@@ -123,8 +195,8 @@ def room_hops(spec: HouseSpec) -> np.ndarray:
 class _Placed:
     """One placement of one house: its world, goal poses by target, and what starts need."""
 
-    def __init__(self, world: World, goal_ids: dict[str, np.ndarray]):
-        self.world, self.goal_ids = world, goal_ids
+    def __init__(self, tier: Tier, world: World, goal_ids: dict[str, np.ndarray]):
+        self.tier, self.world, self.goal_ids = tier, world, goal_ids
         self.rooms = np.repeat(world.cell_rooms, 4)  # the room of every pose
         self.hops = room_hops(world.spec)
         self._tables: dict[str, tuple[np.ndarray, np.ndarray]] = {}
@@ -150,43 +222,50 @@ class _Placed:
         holders = sorted({o.room for o in self.world.spec.objects if o.category == target})
         room = self.rooms[safe]
         hops = self.hops[np.maximum(room, 0)][:, holders]  # doors to each room holding the target
-        far_rooms = (room >= 0) & np.all((hops >= MIN_ROOM_HOPS) | (hops < 0), axis=1)
-        return free & (steps[safe] >= 0) & (metres[safe] >= MIN_GEODESIC) & far_rooms
+        far_rooms = (room >= 0) & np.all((hops >= self.tier.min_room_hops) | (hops < 0), axis=1)
+        return free & (steps[safe] >= 0) & (metres[safe] >= self.tier.min_geodesic) & far_rooms
 
 
-def _small_targets_in_half(placed: dict[str, _Placed]) -> set[str]:
-    """The small targets with goal poses in at least half of the houses of ``placed``."""
-    return {t for t in SMALL_TARGETS if sum(t in here.goal_ids for here in placed.values()) >= len(placed) / 2}
+def _common_targets(targets: tuple[str, ...], share: float, placed: dict[str, _Placed]) -> set[str]:
+    """The ``targets`` with goal poses in at least ``share`` of the houses of ``placed``, and one."""
+    least = max(share * len(placed), 1)
+    return {t for t in targets if sum(t in here.goal_ids for here in placed.values()) >= least}
+
+
+def build_tier_suite(name: str, cache_dir: str | None = None) -> dict:
+    """The suite file ``name`` of a tier (``TIERS``), built with the other placements of its tier."""
+    return _build_tier(TIERS[name].names[0], cache_dir)[name]
 
 
 @lru_cache(maxsize=1)
-def build_large_suites(cache_dir: str | None = None) -> dict[str, dict]:
-    """The three suite files of the tier (by name), built together from their fixed seeds (the
-    module docstring); once a process (``objsearch suite rebuild`` of the three names builds once)."""
+def _build_tier(base: str, cache_dir: str | None) -> dict[str, dict]:
+    """The suite files of the tier whose base suite is ``base`` (by name), built together from
+    their fixed seeds (the module docstring); once a process (``objsearch suite rebuild`` of a
+    tier's names builds once)."""
     from objsearch.sim.suite_build import _goal_ids, _suite_record, house_entry
 
-    groups = {
-        "train": pick_houses(TRAIN_SEEDS, "train", TRAIN_COUNT),
-        "val": pick_houses(VAL_SEEDS, "test", VAL_COUNT),
-        "test": pick_houses(TEST_SEEDS, "test", TEST_COUNT),
-    }
-    placed: dict[str, dict[str, _Placed]] = {p: {} for p in PLACEMENTS.values()}  # placement -> house -> _Placed
-    for part in ("val", "test"):
+    tier = TIERS[base]
+    groups = {part: pick_houses(tier, part) for part in tier.counts}
+    parts = tuple(tier.episodes)  # the evaluation splits
+    placed: dict[str, dict[str, _Placed]] = {p: {} for p in tier.placements.values()}  # placement -> house -> _Placed
+    for part in parts:
         for worlds in groups[part]:
             for placement, world in worlds.items():
-                placed[placement][world.house_id] = _Placed(world, _goal_ids(world, SMALL_TARGETS, cache_dir, RULE))
-    targets = sorted(set.intersection(*(_small_targets_in_half(placed[p]) for p in placed)))
-    rng = np.random.default_rng(BUILD_SEED)
+                goal_ids = _goal_ids(world, SMALL_TARGETS, cache_dir, RULE)
+                placed[placement][world.house_id] = _Placed(tier, world, goal_ids)
+    candidates = tier.targets or SMALL_TARGETS
+    targets = sorted(set.intersection(*(_common_targets(candidates, tier.target_share, placed[p]) for p in placed)))
+    rng = np.random.default_rng(tier.build_seed)
     # the start candidates: every pose of a house's functional graph, and where each is in every placement
     tuples = {h: np.array(here.world.graph.pose_tuples, dtype=np.int64) for h, here in placed["functional"].items()}
     pose_ids = {(p, h): placed[p][h].pose_ids(tuples[h]) for p in placed for h in tuples}
     starts_of: dict[tuple[str, str], np.ndarray] = {}  # (house, target) -> candidates that may start its episodes
     episodes = {p: {} for p in placed}
-    for part in ("val", "test"):
+    for part in parts:
         ids = sorted(w["functional"].house_id for w in groups[part])
         for p in placed:
             episodes[p][part] = []
-        while len(episodes["functional"][part]) < EPISODES[part]:
+        while len(episodes["functional"][part]) < tier.episodes[part]:
             house = ids[int(rng.integers(len(ids)))]
             have = [t for t in targets if all(t in placed[p][house].goal_ids for p in placed)]
             if not have:
@@ -215,10 +294,11 @@ def build_large_suites(cache_dir: str | None = None) -> dict[str, dict]:
                     }
                 )
     out = {}
-    for name, p in PLACEMENTS.items():
+    for name, p in tier.placements.items():
         entry = {
             part: {
-                w[p].house_id: house_entry(w[p], house_ref(w[p].spec.seed, w[p].spec.split, p)) for w in groups[part]
+                w[p].house_id: house_entry(w[p], house_ref(tier, w[p].spec.seed, w[p].spec.split, p))
+                for w in groups[part]
             }
             for part in groups
         }
@@ -234,13 +314,13 @@ def build_large_suites(cache_dir: str | None = None) -> dict[str, dict]:
             name,
             f"{name}-v1",
             {"targets": targets},
-            {**entry["val"], **entry["test"]},
-            entry["train"],
+            {house: info for part in parts for house, info in entry[part].items()},
+            entry.get("train", {}),
             goals,
             episodes[p],
             PROTOCOL,
             start_steps=_steps_range(episodes[p]),
-            seeds=SEEDS,
+            seeds=tier.seeds_played,
         )
     return out
 

@@ -251,10 +251,10 @@ def build_suite(name: str, cache_dir: str | None = None) -> dict:
         from objsearch.sim.rooms_suite import build_rooms_suite
 
         return build_rooms_suite(name, f"{name}-v1", rng, cache_dir)
-    if recipe == "house-large":  # the large-house tier: its three placements are drawn together
-        from objsearch.sim.large_suite import build_large_suites
+    if recipe == "house-large":  # the large-house tier and its sweep: a tier's placements are drawn together
+        from objsearch.sim.large_suite import build_tier_suite
 
-        return build_large_suites(cache_dir)[name]
+        return build_tier_suite(name, cache_dir)
     if recipe == "house-single":
         candidates = {s: World.load(HouseRef(seed=s, size_class="medium", generator=gen)) for s in range(10)}
 
