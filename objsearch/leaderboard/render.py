@@ -1,6 +1,6 @@
-"""Generating ``leaderboard/README.md``, ``leaderboard/index.html`` and
-``leaderboard/paper_tables.md`` (the paper's Tables 1-4 beside ours) from the stored
-submissions alone (``leaderboard/submissions/<suite>/<name>.json``).
+"""Generating ``leaderboard/README.md``, ``leaderboard/index.html``,
+``leaderboard/paper_tables.md`` (the paper's Tables 1-4 beside ours) and, once the size sweep
+has entries, ``leaderboard/size_sweep.svg`` (``sweep``) from the stored submissions alone (``leaderboard/submissions/<suite>/<name>.json``).
 
 Partial submissions (``"partial": true``: fewer splits or seeds than the suite's standard)
 are never ranked: README.md lists them apart, after the ranked tables; index.html and
@@ -40,6 +40,7 @@ from objsearch.leaderboard.relations import (
     render_owed,
     render_relations,
 )
+from objsearch.leaderboard.sweep import SVG_FILE, render_sweep, sweep_rows, sweep_svg
 from objsearch.leaderboard.table4 import ordering_cells, render_ordering, render_table4, table4_rows
 
 SUBMISSIONS = "submissions"
@@ -276,6 +277,7 @@ def render_paper_tables(submissions: list[tuple[str, dict]], relations: list[dic
             + render_gains(gain_rows(submissions))
             + render_owed(owed_rows(submissions))
             + render_breakdown(breakdown_rows(submissions))
+            + render_sweep(sweep_rows(submissions))
         )
         + "\n"
     )
@@ -433,8 +435,8 @@ def _write_together(texts: dict[Path, str]) -> None:
 
 
 def render(root: str | Path, add: tuple[Path, dict] | None = None, store: dict[Path, dict] | None = None) -> list[Path]:
-    """Regenerate ``README.md``, ``index.html`` and ``paper_tables.md`` under ``root`` from its
-    stored submissions, and the results table of the project's README (``headline``); with
+    """Regenerate ``README.md``, ``index.html``, ``paper_tables.md`` (and ``size_sweep.svg``)
+    under ``root`` from its stored submissions, and the results table of the project's README (``headline``); with
     ``add`` (path, results), store that submission as well, and with ``store`` ({path:
     results}) those, in the same write. Nothing is replaced unless every file is written.
     Returns the paths written.
@@ -455,6 +457,9 @@ def render(root: str | Path, add: tuple[Path, dict] | None = None, store: dict[P
     relations = relations_rows(full, lambda results: runs_label(training(results)[0]))
     texts[root / "index.html"] = render_html(tables, relations)
     texts[root / "paper_tables.md"] = render_paper_tables(full, relations)
+    sweep = sweep_rows(full)
+    if sweep:
+        texts[root / SVG_FILE] = sweep_svg(sweep)
     readme = project_readme(root)
     if readme is not None:  # the project's README.md, when it holds the results table's markers
         texts[readme] = with_headline(readme.read_text(encoding="utf-8"), headline_tables(full), readme)

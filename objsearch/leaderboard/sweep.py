@@ -1,0 +1,175 @@
+"""The size sweep: each prior agent's gain over ``frontier`` against house size, with the
+objects where they belong and shuffled (``docs/large_houses.md``).
+
+The sweep's suites (``house-size-N`` and ``house-size-N-shuffled``, N rooms, ``SWEEP_ROOMS``)
+are ``house-gen-3`` houses of one size each, the same houses, starts and targets in both
+placements. ``sweep_rows`` pairs every gt entry with ``frontier``'s on the same test episodes
+(SR and SPL gain with the paired 95% bootstrap interval); ``render_sweep`` is its table for
+``paper_tables.md`` and ``sweep_svg`` its plot (``leaderboard/size_sweep.svg``), both written by
+``objsearch leaderboard render``.
+"""
+
+from __future__ import annotations
+
+import html
+import math
+
+from objsearch.eval.metrics import paired_difference_ci, spl, success_rate
+from objsearch.leaderboard.relations import BOUNDS, REFERENCE, _gt, _name, _ordered, _split
+
+#: The sweep's house sizes (rooms); ``objsearch.sim.large_suite.SWEEP`` builds their suites.
+SWEEP_ROOMS = (4, 7, 10, 14)
+PLACEMENTS = ("functional", "shuffled")
+MEASURES = (("sr", "SR", success_rate), ("spl", "SPL", spl))
+SVG_FILE = "size_sweep.svg"
+
+
+def sweep_suite(rooms: int, placement: str) -> str:
+    """The sweep's suite of ``rooms`` rooms in ``placement`` (``functional`` or ``shuffled``)."""
+    return f"house-size-{rooms}" + ("" if placement == "functional" else f"-{placement}")
+
+
+def sweep_rows(submissions: list[tuple[str, dict]], split: str = "test") -> list[dict]:
+    """Every gt entry of a sweep suite but ``REFERENCE`` and the bounds, with its SR and SPL and
+    its gain over ``REFERENCE`` on the same episodes and seeds (paired 95% interval), and
+    ``REFERENCE``'s own SR and SPL there; by method, size, placement."""
+    rows = []
+    for rooms in SWEEP_ROOMS:
+        for placement in PLACEMENTS:
+            entries = _gt(submissions, sweep_suite(rooms, placement))
+            if REFERENCE not in entries:
+                continue
+            ref = _split(entries[REFERENCE], split)
+            for name in _ordered(n for n in entries if n not in (REFERENCE, *BOUNDS)):
+                mine = _split(entries[name], split)
+                if {(r["episode_id"], r["seed"]) for r in mine} != {(r["episode_id"], r["seed"]) for r in ref}:
+                    continue  # other seeds: not the same records to pair
+                row = {"name": name, "rooms": rooms, "placement": placement, "episodes": len(mine)}
+                for key, _, measure in MEASURES:
+                    row[key], row["reference_" + key] = measure(mine), measure(ref)
+                    row[key + "_gain"] = measure(mine) - measure(ref)
+                    row[key + "_gain_ci"] = paired_difference_ci(mine, ref, measure)
+                rows.append(row)
+    return sorted(rows, key=lambda r: (_ordered({r["name"] for r in rows}).index(r["name"]), r["rooms"]))
+
+
+def render_sweep(rows: list[dict]) -> list[str]:
+    """The markdown of ``sweep_rows``: one row per method and size, both placements side by side."""
+    if not rows:
+        return []
+    lines = [
+        "",
+        f"## Gain over `{REFERENCE}` against house size",
+        "",
+        "The size sweep (`house-size-N`, N rooms, and `house-size-N-shuffled`: the same houses, starts and targets",
+        "with every object anywhere in the house). Each cell: the agent's SR or SPL on test minus",
+        f"`{REFERENCE}`'s on the same episodes, with the paired 95% bootstrap interval; `{REFERENCE}`'s own score",
+        "in the first columns. A prior that uses where things are gains on functional houses and not on",
+        f"shuffled ones. gt observations, seed 1. The plot: [`{SVG_FILE}`]({SVG_FILE}).",
+        "",
+        f"| Method | rooms | {REFERENCE} SR / SPL | SR gain | SR gain shuffled | SPL gain | SPL gain shuffled |",
+        "|---|---|---|---|---|---|---|",
+    ]
+    cells = {(r["name"], r["rooms"], r["placement"]): r for r in rows}
+    for name in _ordered({r["name"] for r in rows}):
+        for rooms in SWEEP_ROOMS:
+            got = [cells.get((name, rooms, p)) for p in PLACEMENTS]
+            if not any(got):
+                continue
+            first = next(r for r in got if r)
+            reference = f"{first['reference_sr']:.2f} / {first['reference_spl']:.2f}"
+            gains = ["-" if r is None else _gain(r, key) for key in ("sr", "spl") for r in got]
+            lines.append(f"| {_name(name)} | {rooms} | {reference} | " + " | ".join(gains) + " |")
+    return lines
+
+
+def _gain(row: dict, key: str) -> str:
+    low, high = row[key + "_gain_ci"]
+    return f"{row[key + '_gain']:+.2f} ({low:+.2f} to {high:+.2f})"
+
+
+# The plot's frame (px) and the colours of its methods, in order.
+WIDTH, HEIGHT, MARGIN, GAP = 360, 260, 48, 24
+COLOURS = ("#1b6ca8", "#d1495b", "#2e933c", "#8e5ea2", "#edae49")
+
+
+def sweep_svg(rows: list[dict]) -> str:
+    """``sweep_rows`` as an SVG: a panel for SR gain and one for SPL gain against rooms, a line a
+    method (solid: functional, dashed: shuffled) with its 95% intervals as bars."""
+    names = _ordered({r["name"] for r in rows})
+    lows = [min(r[k + "_gain_ci"][0] for r in rows) for k, _, _ in MEASURES]
+    highs = [max(r[k + "_gain_ci"][1] for r in rows) for k, _, _ in MEASURES]
+    low, high = min(-0.05, *lows), max(0.05, *highs)
+    low, high = math.floor(low * 10) / 10, math.ceil(high * 10) / 10
+    span_x = SWEEP_ROOMS[-1] - SWEEP_ROOMS[0]
+    total_w = 2 * (WIDTH + MARGIN) + GAP
+    legend_h = 18 * (len(names) + 2)
+    out = [
+        f'<svg xmlns="http://www.w3.org/2000/svg" width="{total_w}" height="{HEIGHT + 2 * MARGIN + legend_h}" '
+        'font-family="sans-serif" font-size="12">',
+        f'<rect width="{total_w}" height="{HEIGHT + 2 * MARGIN + legend_h}" fill="white"/>',
+    ]
+    for panel, (key, label, _) in enumerate(MEASURES):
+        left = MARGIN + panel * (WIDTH + MARGIN + GAP)
+
+        def x(rooms: float) -> float:
+            return left + (rooms - SWEEP_ROOMS[0]) / span_x * WIDTH
+
+        def y(value: float) -> float:
+            return MARGIN + (high - value) / (high - low) * HEIGHT
+
+        out.append(
+            f'<text x="{left + WIDTH / 2}" y="{MARGIN - 16}" text-anchor="middle" font-weight="bold">'
+            f"{label} gain over {REFERENCE} (95% CI)</text>"
+        )
+        out.append(f'<rect x="{left}" y="{MARGIN}" width="{WIDTH}" height="{HEIGHT}" fill="none" stroke="#888"/>')
+        for tick in _ticks(low, high):
+            out.append(
+                f'<line x1="{left}" x2="{left + WIDTH}" y1="{y(tick):.1f}" y2="{y(tick):.1f}" '
+                f'stroke="{"#444" if tick == 0 else "#ddd"}"/>'
+            )
+            out.append(f'<text x="{left - 6}" y="{y(tick) + 4:.1f}" text-anchor="end">{tick:+.1f}</text>')
+        for rooms in SWEEP_ROOMS:
+            out.append(f'<text x="{x(rooms):.1f}" y="{MARGIN + HEIGHT + 16}" text-anchor="middle">{rooms}</text>')
+        out.append(f'<text x="{left + WIDTH / 2}" y="{MARGIN + HEIGHT + 34}" text-anchor="middle">rooms</text>')
+        for m, name in enumerate(names):
+            colour = COLOURS[m % len(COLOURS)]
+            for p, placement in enumerate(PLACEMENTS):
+                mine = sorted(
+                    (r for r in rows if r["name"] == name and r["placement"] == placement), key=lambda r: r["rooms"]
+                )
+                shift = (p - 0.5) * 0.12 * span_x / len(SWEEP_ROOMS)  # the two placements side by side
+                points = " ".join(f"{x(r['rooms'] + shift):.1f},{y(r[key + '_gain']):.1f}" for r in mine)
+                dash = "" if placement == "functional" else ' stroke-dasharray="5,4"'
+                out.append(f'<polyline points="{points}" fill="none" stroke="{colour}" stroke-width="2"{dash}/>')
+                for r in mine:
+                    cx, (ci_low, ci_high) = x(r["rooms"] + shift), r[key + "_gain_ci"]
+                    out.append(
+                        f'<line x1="{cx:.1f}" x2="{cx:.1f}" y1="{y(ci_low):.1f}" y2="{y(ci_high):.1f}" '
+                        f'stroke="{colour}"/>'
+                    )
+                    fill = colour if placement == "functional" else "white"
+                    out.append(
+                        f'<circle cx="{cx:.1f}" cy="{y(r[key + "_gain"]):.1f}" r="3.5" fill="{fill}" '
+                        f'stroke="{colour}"/>'
+                    )
+    top = HEIGHT + 2 * MARGIN
+    for m, name in enumerate(names):
+        colour = COLOURS[m % len(COLOURS)]
+        out.append(
+            f'<line x1="{MARGIN}" x2="{MARGIN + 24}" y1="{top + 18 * m:.0f}" y2="{top + 18 * m:.0f}" '
+            f'stroke="{colour}" stroke-width="3"/>'
+        )
+        out.append(f'<text x="{MARGIN + 32}" y="{top + 18 * m + 4:.0f}">{html.escape(name)}</text>')
+    m = len(names)
+    out.append(
+        f'<text x="{MARGIN}" y="{top + 18 * m + 4:.0f}">solid, filled: functional; dashed, open: shuffled '
+        f"(objects anywhere). gt observations, test episodes.</text>"
+    )
+    out.append("</svg>")
+    return "\n".join(out) + "\n"
+
+
+def _ticks(low: float, high: float) -> list[float]:
+    count = round((high - low) * 10)
+    return [round(low + i / 10, 1) for i in range(count + 1)]
