@@ -41,7 +41,12 @@ regenerates the houses and refuses to run if a hash differs.
   targets with objects placed functionally, within room types, or anywhere
   (``objsearch.sim.large_suite``); splits ``val`` and ``test``.
 
-Episodes (all but ``rooms`` and the large tier): 100 per split, house and target drawn uniformly, the start uniformly among poses
+* ``house-size-N`` and ``house-size-N-shuffled``, N = 4, 7, 10, 14 (the tier's size sweep):
+  8 ``house-gen-3`` test houses of N rooms each, six small targets, 150 test episodes starting
+  in another room than the target's and at least 4 m from it; functional and shuffled. For the
+  curve of a prior's gain against house size (``objsearch.leaderboard.sweep``).
+
+Episodes (all but ``rooms`` and the large tier and sweep): 100 per split, house and target drawn uniformly, the start uniformly among poses
 6 to 40 minimal steps from the nearest goal pose (``START_STEPS``); 1000 steps at most (the
 paper's protocol).
 Rebuild (deliberately; bump the version): ``objsearch suite rebuild NAME``. How the files
@@ -95,7 +100,8 @@ class ShippedSuite:
             prints it) bumps the version and this.
         recipe: how its houses and episodes are drawn: ``house-single``, ``house-multi`` or
             ``house-gen`` (``suite_build``), ``rooms`` (``rooms_suite``), ``house-large``
-            (``large_suite``: the three placements of the large-house tier, drawn together);
+            (``large_suite``: the placements of a tier, the large-house tier or one size of its
+            sweep, drawn together);
             None for a suite made from another one (below), which follows that one's.
         generator: its houses' generator; None: ``house-gen-1``, left out of the file's house
             entries so that the v1 files keep their bytes.
@@ -170,6 +176,54 @@ SHIPPED = (
     ShippedSuite(
         "house-large-shuffled",
         "e481d5d48bf7de6fd006d27be9e7641833b236fac3f285d298211fcba8dfef64",
+        recipe="house-large",
+        generator="house-gen-3",
+    ),
+    ShippedSuite(
+        "house-size-4",
+        "98ce4f886b1bd34e053f48bea3327f55f7e8488ea449e84568682e2c6ff28834",
+        recipe="house-large",
+        generator="house-gen-3",
+    ),
+    ShippedSuite(
+        "house-size-4-shuffled",
+        "42283db8b45f3bfc030201a09b1c78ed1690991d9b5fb6a3e61900d1e801aa94",
+        recipe="house-large",
+        generator="house-gen-3",
+    ),
+    ShippedSuite(
+        "house-size-7",
+        "e6e882dfb416b96efdfd4dbc16f8f730af3aaed0ab1630465d4d5b9276146e12",
+        recipe="house-large",
+        generator="house-gen-3",
+    ),
+    ShippedSuite(
+        "house-size-7-shuffled",
+        "f11bb801a670f2f4602ec89d215089728dd3fe7c51408268252f1284f36e074c",
+        recipe="house-large",
+        generator="house-gen-3",
+    ),
+    ShippedSuite(
+        "house-size-10",
+        "45acf1ef542ed09bc8d7de779986665090ea12159aff1b802080e3ee0873a204",
+        recipe="house-large",
+        generator="house-gen-3",
+    ),
+    ShippedSuite(
+        "house-size-10-shuffled",
+        "dee262b25b2d571d3b49f0cd9535eb33a1ba388d9a3b64bd512679857e342887",
+        recipe="house-large",
+        generator="house-gen-3",
+    ),
+    ShippedSuite(
+        "house-size-14",
+        "9be7869e892db999dd47ac39fb4fd7f22fd133ceba922beb03b6efc5fcee2004",
+        recipe="house-large",
+        generator="house-gen-3",
+    ),
+    ShippedSuite(
+        "house-size-14-shuffled",
+        "6501b217dc5725343f2bf6d5bde7d7ac8d5c62399e176177747f889437c61c6a",
         recipe="house-large",
         generator="house-gen-3",
     ),

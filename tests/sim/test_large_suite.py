@@ -1,16 +1,16 @@
-"""The large-house tier's three suite files: the same houses, starts and targets under three
-placements, and starts that are far from the target in every one (checked against the houses
-regenerated from their seeds, not against the file's own numbers)."""
+"""The large-house tier's three suite files and the size sweep's eight: the same houses, starts
+and targets under each tier's placements, and starts that are far from the target in every one
+(checked against the houses regenerated from their seeds, not against the file's own numbers)."""
 
 import numpy as np
 import pytest
 
 from objsearch.house.gen3.build import MAX_TARGET_INSTANCES, SMALL_TARGETS
-from objsearch.sim.large_suite import MIN_GEODESIC, MIN_ROOM_HOPS, PLACEMENTS, room_hops
+from objsearch.sim.large_suite import PLACEMENTS, SWEEP, SWEEP_TARGETS, TIERS, room_hops
 from objsearch.sim.suites import load_suite_file
 from objsearch.sim.world import HouseRef, World
 
-SUITES = {name: load_suite_file(name) for name in PLACEMENTS}
+SUITES = {name: load_suite_file(name) for name in TIERS}
 
 
 def test_the_three_suites_play_the_same_episodes_in_the_same_houses():
@@ -35,9 +35,26 @@ def test_the_three_suites_play_the_same_episodes_in_the_same_houses():
     assert SUITES["house-large-shuffled"]["goals"][house].get(target) != base["goals"][house][target]
 
 
-@pytest.mark.parametrize("name", list(PLACEMENTS))
+@pytest.mark.parametrize("rooms", list(SWEEP))
+def test_the_sweep_plays_one_house_size_the_same_targets_and_episodes_functional_and_shuffled(rooms):
+    functional, shuffled = (SUITES[name] for name in SWEEP[rooms].names)
+    assert functional["protocol"] == "objectnav" and functional["max_steps"] == 500 and functional["seeds"] == [1]
+    assert set(functional["categories"]["targets"]) == set(SWEEP_TARGETS)  # every size: the same targets
+    assert functional["training_houses"] == {} and list(functional["splits"]) == ["test"]
+    assert functional["houses"].keys() == shuffled["houses"].keys() and len(functional["houses"]) == 8
+    for house, info in functional["houses"].items():
+        assert info["size_class"] == f"rooms-{rooms}" and "placement" not in info
+        assert shuffled["houses"][house]["placement"] == "shuffled"
+        assert shuffled["houses"][house]["seed"] == info["seed"]
+    house = next(iter(functional["houses"]))
+    assert len(World.load(HouseRef(**functional["houses"][house])).spec.rooms) == rooms
+    same = [[(e["house"], e["start"], e["target"]) for e in suite["splits"]["test"]] for suite in (functional, shuffled)]
+    assert same[0] == same[1] and len(same[0]) == 150
+
+
+@pytest.mark.parametrize("name", [*PLACEMENTS, SWEEP[4].names[1], SWEEP[14].names[0]])
 def test_starts_are_far_from_the_target_in_walking_and_in_rooms(name):
-    suite = SUITES[name]
+    suite, tier = SUITES[name], TIERS[name]
     houses = sorted(suite["houses"])[:2]
     for house in houses:
         world = World.load(HouseRef(**suite["houses"][house]))
@@ -51,6 +68,6 @@ def test_starts_are_far_from_the_target_in_walking_and_in_rooms(name):
             start = graph.pose_id(*episode["start"])
             assert episode["min_steps"] == int(graph.shortest_steps(goals)[start]) + 1  # the STOP
             metres = graph.geodesic_distance(start, goals)
-            assert metres >= MIN_GEODESIC and np.isclose(metres, episode["geodesic"])
+            assert metres >= tier.min_geodesic and np.isclose(metres, episode["geodesic"])
             room = int(world.cell_rooms[start // 4])
-            assert room >= 0 and all(hops[room, h] >= MIN_ROOM_HOPS for h in holders)
+            assert room >= 0 and all(hops[room, h] >= tier.min_room_hops for h in holders)

@@ -33,6 +33,26 @@ SHIPPED = {
         "house-large-shuffled-v1",
         "f53fa25b59e01c0997d2e6441354c7cbe6f46f07e16be14a0743fba5f7c356da",
     ),
+    "house-size-4": ("house-size-4-v1", "c437565362aeaa44e4e66285afc4a13cba4ab533696a5a5fd9c85bf2700de662"),
+    "house-size-4-shuffled": (
+        "house-size-4-shuffled-v1",
+        "93f370d50d85fc3c39d4090e31810c033d4db7ac3a00e8e21a6f75ade6ae2880",
+    ),
+    "house-size-7": ("house-size-7-v1", "7c3370190b2c08bfc23c77f186b39fd407f6b7eb94f121a08f7c00e4e64f2f55"),
+    "house-size-7-shuffled": (
+        "house-size-7-shuffled-v1",
+        "43df9aa55a20e73c0bd52ca04b573cde7b62caddc5be25f94c461e46c0e0ddc5",
+    ),
+    "house-size-10": ("house-size-10-v1", "f460fd4df4591086b7228d3b0e77f3cc78a9339e34f1d1482ddbb51ef3d2e982"),
+    "house-size-10-shuffled": (
+        "house-size-10-shuffled-v1",
+        "83060169059ae1b2042d8812361e9b510b626f850fd739d08608b48e763921e1",
+    ),
+    "house-size-14": ("house-size-14-v1", "c4ae5bbf3bf2caa4d95f7fe85cf1997f2fc9935a7183abc677d2c702289a37fe"),
+    "house-size-14-shuffled": (
+        "house-size-14-shuffled-v1",
+        "3ec177e3c6d3e91a85c2a3839c20ae58301fb29e1714540489bcfb8fb930d5ab",
+    ),
 }
 
 
