@@ -242,7 +242,7 @@ def _build_tier(base: str, cache_dir: str | None) -> dict[str, dict]:
     """The suite files of the tier whose base suite is ``base`` (by name), built together from
     their fixed seeds (the module docstring); once a process (``objsearch suite rebuild`` of a
     tier's names builds once)."""
-    from objsearch.sim.suite_build import _goal_ids, _suite_record, house_entry
+    from objsearch.sim.suite_record import _goal_ids, _suite_record, house_entry
 
     tier = TIERS[base]
     groups = {part: pick_houses(tier, part) for part in tier.counts}

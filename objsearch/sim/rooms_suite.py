@@ -37,6 +37,7 @@ import numpy as np
 from objsearch.house.categories import CATEGORY_IDS
 from objsearch.house.rooms import ROOM_TYPES
 from objsearch.sim.goals import GOAL_CAMERA, PROTOCOLS, goal_poses
+from objsearch.sim.suite_record import _suite_record, house_entry
 from objsearch.sim.world import HouseRef, World
 
 TRAIN_SEEDS = range(1000, 1020)
@@ -137,8 +138,6 @@ def start_candidates(world: World, targets, cache_dir=None) -> dict[str, tuple[n
 def build_rooms_suite(name: str, version: str, rng: np.random.Generator, cache_dir=None) -> dict:
     """The ``rooms`` suite file's content (see the module docstring), drawn with ``rng``; renders
     the goal camera's frames of every pose of every room (into the cache)."""
-    from objsearch.sim.suite_build import _suite_record, house_entry
-
     refs = room_refs()
     houses, training, tables, worlds, sets = {}, {}, {}, {}, {}
     for room in ROOM_TYPES:

@@ -4,8 +4,9 @@ suite make``). Reading them, and what the harness needs of them, is ``objsearch.
 
 Episodes: ``EPISODES_PER_SPLIT`` per split, house and target drawn uniformly, the start
 uniformly among poses 6 to 40 minimal steps from the nearest goal pose (``START_STEPS``);
-a new shipped suite is a record in ``objsearch.sim.suites.SHIPPED`` (whose ``recipe`` picks
-its branch in ``build_suite``) and its file. Under the ObjectNav protocol (``objsearch.sim.goals.PROTOCOLS``)
+a new shipped suite is a record in ``objsearch.sim.suites.SHIPPED`` (whose ``recipe`` names
+its builder in ``RECIPES``) and its file. What every builder shares (a house's entry, goal
+poses, episodes, the file's record) is ``objsearch.sim.suite_record``. Under the ObjectNav protocol (``objsearch.sim.goals.PROTOCOLS``)
 goal poses come from its rule, ``min_steps`` counts the STOP and episodes have its step limit;
 ``objectnav_suite`` makes a paper-protocol suite's episodes into such a suite.
 """
@@ -20,10 +21,11 @@ import numpy as np
 
 from objsearch.errors import UserError
 from objsearch.house.categories import CATEGORY_IDS, FIRST_OBJECT_ID
-from objsearch.sim.env import START_STEPS, STARTS, draw_start, entrance_poses
-from objsearch.sim.goals import GOAL_CAMERA, PROTOCOLS, GoalRule, Protocol, goal_poses
-from objsearch.sim.navgraph import NAVGRAPH_VERSION
-from objsearch.sim.suite_schema import content_digest
+from objsearch.sim.env import START_STEPS, STARTS, entrance_poses
+from objsearch.sim.goals import PROTOCOLS
+from objsearch.sim.large_suite import build_tier_suite
+from objsearch.sim.rooms_suite import build_rooms_suite
+from objsearch.sim.suite_record import _episodes, _goal_ids, _goal_table, _suite_record, house_entry
 from objsearch.sim.suites import (
     SHIPPED_SUITES,
     SUITE_NAMES,
@@ -71,142 +73,9 @@ TARGETS = (
 )
 
 
-def _goal_ids(world: World, targets, cache_dir, rule: GoalRule) -> dict[str, np.ndarray]:
-    """The goal pose ids of each of ``targets`` the house has goal poses for, by ``rule``
-    (rendering the goal camera's cache)."""
-    from objsearch.sim.cache import HouseCache
-
-    cache = HouseCache.open(world, GOAL_CAMERA, cache_dir)
-    semantic, depth = np.asarray(cache.semantic), np.asarray(cache.depth)
-    found = {target: goal_poses(semantic, depth, CATEGORY_IDS[target], rule) for target in targets}
-    return {target: ids for target, ids in found.items() if len(ids)}
-
-
-def _goal_table(world: World, targets, cache_dir, rule: GoalRule = PROTOCOLS["paper"].goal_rule) -> dict[str, list]:
-    """The goal poses by ``rule`` of each of ``targets`` with a pose ``START_STEPS`` from them."""
-    graph = world.graph
-    table = {}
-    for target, goals in _goal_ids(world, targets, cache_dir, rule).items():
-        dist = graph.shortest_steps(goals)
-        if ((dist >= START_STEPS[0]) & (dist <= START_STEPS[1])).any():
-            table[target] = [list(graph.pose_of(int(g))) for g in goals]
-    return table
-
-
-def _episodes(
-    worlds: dict[str, World],
-    goals: dict,
-    targets: list[str],
-    count: int,
-    rng,
-    starts: str = "anywhere",
-    stop: bool = False,
-) -> list[dict]:
-    """``count`` episodes: house and target drawn uniformly (again while the house lacks the
-    target, or, with ``starts="entrance"``, while ``draw_start`` finds no start near its
-    entrance), the start by ``draw_start``; ``min_steps`` counts the STOP with ``stop``."""
-    names = sorted(worlds)
-    near = {house: entrance_poses(world) for house, world in worlds.items()} if starts == "entrance" else {}
-
-    def steps_to_goals(house, target):
-        graph = worlds[house].graph
-        return graph.shortest_steps([graph.pose_id(*g) for g in goals[house][target]])
-
-    if near and not any(
-        (near[h] & (steps_to_goals(h, t) >= START_STEPS[0])).any() for h in names for t in targets if t in goals[h]
-    ):  # draw_start would find no start for any house and target: the loop below would not end
-        raise UserError(
-            f"no target ({', '.join(targets)}) has goal poses {START_STEPS[0]} steps or more from the entrance "
-            f"of any of the houses {', '.join(names)}; draw the starts anywhere (starts='anywhere')"
-        )
-    out = []
-    while len(out) < count:
-        house = names[rng.integers(len(names))]
-        target = targets[rng.integers(len(targets))]
-        if target not in goals[house]:
-            continue
-        graph = worlds[house].graph
-        dist = steps_to_goals(house, target)
-        start = draw_start(dist, rng, near.get(house))
-        if start is None:
-            continue
-        out.append(
-            {
-                "house": house,
-                "start": list(graph.pose_of(start)),
-                "target": target,
-                "min_steps": int(dist[start]) + stop,
-            }
-        )
-    return out
-
-
-def house_entry(world: World, ref: HouseRef) -> dict:
-    """The fields a suite file stores for a house (``HouseRef`` fields, with the spec hash):
-    its generator seed, or its folder (``ref.path``)."""
-    if ref.path is not None:
-        return {"path": ref.path, "spec_sha256": world.spec_sha256}
-    entry = {
-        "seed": ref.seed,
-        "split": ref.split,
-        "size_class": world.spec.size_class,
-        "spec_sha256": world.spec_sha256,
-    }
-    if ref.generator is not None:  # left out for house-gen-1 houses, so v1 suite files keep their bytes
-        entry["generator"] = ref.generator
-    if ref.placement is not None:  # left out for functional houses, so their suite files keep their bytes
-        entry["placement"] = ref.placement
-    if ref.room is not None:  # a single room (the rooms suite); left out for houses
-        entry["room"] = ref.room
-    return entry
-
-
 def _found_in_half(goals: dict, house_ids: list[str]) -> list[str]:
     """The ``TARGETS`` with goal poses in at least half of the houses ``house_ids``."""
     return sorted(t for t in TARGETS if sum(t in goals[house] for house in house_ids) >= len(house_ids) / 2)
-
-
-def _suite_record(
-    name: str,
-    version: str | None,
-    categories: dict,
-    houses: dict,
-    training: dict,
-    goals: dict,
-    splits: dict,
-    protocol: Protocol = PROTOCOLS["paper"],
-    starts: str = "anywhere",
-    max_steps: int | None = None,
-    start_steps: tuple[int, int] = START_STEPS,
-    room_max_steps: dict[str, int] | None = None,
-    seeds: tuple[int, ...] | None = None,
-) -> dict:
-    """A suite file's content: the given parts and the settings every suite records, those of
-    ``protocol`` among them. The protocol's name and ``starts`` are recorded only when not the
-    defaults (``paper``, ``anywhere``), and ``room_max_steps`` and ``seeds`` (the standard
-    seeds, where not the paper's) only when given, so that other files keep their bytes. ``max_steps`` None: the protocol's. ``version`` None: ``custom:``
-    and the content's digest."""
-    record = {
-        "suite": name,
-        "version": version,
-        **({"protocol": protocol.name} if protocol.name != "paper" else {}),
-        "navgraph": NAVGRAPH_VERSION,
-        "goal_rule": protocol.goal_rule.to_json(),
-        "goal_camera": GOAL_CAMERA.to_json(),
-        "start_steps": list(start_steps),
-        "max_steps": protocol.max_steps if max_steps is None else max_steps,
-        **({"room_max_steps": dict(room_max_steps)} if room_max_steps else {}),
-        **({"seeds": list(seeds)} if seeds else {}),
-        "categories": categories,
-        "houses": houses,
-        "training_houses": training,
-        "goals": goals,
-        "splits": splits,
-        **({"starts": starts} if starts != "anywhere" else {}),
-    }
-    if version is None:
-        record["version"] = f"custom:{content_digest(record)[:12]}"
-    return record
 
 
 def objectnav_suite(name: str, paper: dict, cache_dir: str | None = None) -> dict:
@@ -238,7 +107,8 @@ def objectnav_suite(name: str, paper: dict, cache_dir: str | None = None) -> dic
 
 
 def build_suite(name: str, cache_dir: str | None = None) -> dict:
-    """Build a suite from its fixed seeds (renders every pose of its evaluation houses)."""
+    """Build a suite from its fixed seeds (renders every pose of its evaluation houses): by
+    its recipe (``RECIPES``), or made from the suite it plays under the ObjectNav protocol."""
     if name not in SHIPPED_SUITES:
         raise UserError(f"unknown house suite {name!r}; known: {', '.join(SUITE_NAMES)}")
     shipped = SHIPPED_SUITES[name]
@@ -246,97 +116,130 @@ def build_suite(name: str, cache_dir: str | None = None) -> dict:
         return objectnav_suite(name, load_suite_file(shipped.objectnav_of), cache_dir)
     base = SHIPPED_SUITES[shipped.shuffled_of or name]  # a shuffled suite is made as its base suite, with its draws
     rng = np.random.default_rng([SUITE_SEED, SUITE_NAMES.index(base.name)])
-    gen, recipe = base.generator, base.recipe
-    if recipe == "rooms":  # single functional rooms, the paper's AI2-THOR protocol
-        from objsearch.sim.rooms_suite import build_rooms_suite
+    return RECIPES[base.recipe](name, base.generator, rng, cache_dir)
 
-        return build_rooms_suite(name, f"{name}-v1", rng, cache_dir)
-    if recipe == "house-large":  # the large-house tier and its sweep: a tier's placements are drawn together
-        from objsearch.sim.large_suite import build_tier_suite
 
-        return build_tier_suite(name, cache_dir)
-    if recipe == "house-single":
-        candidates = {s: World.load(HouseRef(seed=s, size_class="medium", generator=gen)) for s in range(10)}
+def _house_single_refs(name: str, gen: str | None, cache_dir) -> tuple[dict, list]:
+    """The house of the most target categories among generator seeds 0-9 (medium), passing
+    over one where fewer than ``HOUSE_SINGLE_TARGETS`` of them have goal poses in reach of
+    starts (never the case for house-single's house); no training houses."""
+    candidates = {s: World.load(HouseRef(seed=s, size_class="medium", generator=gen)) for s in range(10)}
 
-        def present(s):
-            return len({o.category for o in candidates[s].spec.objects} & set(TARGETS))
+    def present(s):
+        return len({o.category for o in candidates[s].spec.objects} & set(TARGETS))
 
-        # the house with the most target categories, passing over one where fewer than 12 of
-        # them have goal poses in reach of starts (never the case for house-single's house)
-        ranked = sorted(candidates, key=lambda s: (-present(s), s))
-        seed = next(
-            (s for s in ranked if len(_goal_table(candidates[s], TARGETS, cache_dir)) >= HOUSE_SINGLE_TARGETS), None
-        )
-        if seed is None:
-            raise RuntimeError(
-                f"no {name} candidate house has {HOUSE_SINGLE_TARGETS} target categories with goal poses"
-            )
-        eval_refs = {"eval": [HouseRef(seed=seed, size_class="medium", generator=gen)]}
-        train_refs: list[HouseRef] = []
-    elif recipe == "house-multi":
-        eval_refs = {
-            "seen-envs": [HouseRef(seed=s, size_class="medium", generator=gen) for s in (100, 101, 102, 103)],
-            "unseen-envs": [HouseRef(seed=s, size_class="medium", generator=gen) for s in (200, 201, 202, 203)],
-        }
-        train_refs = []
-    else:
-        train_refs = [HouseRef(seed=s, generator=gen) for s in range(1000, 1040)]
-        eval_refs = {
-            "val": [HouseRef(seed=s, split="test", generator=gen) for s in range(2000, 2010)],
-            "test": [HouseRef(seed=s, split="test", generator=gen) for s in range(3000, 3010)],
-        }
-    if shipped.shuffled_of:  # the same houses, their objects shuffled
-        eval_refs = {key: [replace(r, placement="shuffled") for r in refs] for key, refs in eval_refs.items()}
-        train_refs = [replace(r, placement="shuffled") for r in train_refs]
+    ranked = sorted(candidates, key=lambda s: (-present(s), s))
+    seed = next(
+        (s for s in ranked if len(_goal_table(candidates[s], TARGETS, cache_dir)) >= HOUSE_SINGLE_TARGETS), None
+    )
+    if seed is None:
+        raise RuntimeError(f"no {name} candidate house has {HOUSE_SINGLE_TARGETS} target categories with goal poses")
+    return {"eval": [HouseRef(seed=seed, size_class="medium", generator=gen)]}, []
 
-    worlds = {key: [World.load(r) for r in refs] for key, refs in eval_refs.items()}
-    houses, goals = {}, {}
-    for key, refs in eval_refs.items():
-        for ref, world in zip(refs, worlds[key]):
-            houses[world.house_id] = house_entry(world, ref)
-            goals[world.house_id] = _goal_table(world, TARGETS, cache_dir)
-    training = {}
-    for ref in train_refs:
-        world = World.load(ref)
-        training[world.house_id] = house_entry(world, ref)
 
-    def common(ws):
-        sets = [set(goals[w.house_id]) for w in ws]
-        return sorted(set.intersection(*sets))
+def _house_single_splits(name: str, worlds: dict, goals: dict, rng) -> tuple[dict, dict]:
+    """``HOUSE_SINGLE_TARGETS`` targets of the house, half seen and half unseen, and a split of each."""
+    (world,) = worlds["eval"]
+    usable = _common_targets(goals, [world])
+    picked = [usable[i] for i in sorted(rng.choice(len(usable), size=HOUSE_SINGLE_TARGETS, replace=False))]
+    order = rng.permutation(HOUSE_SINGLE_TARGETS)
+    categories = {"seen": sorted(picked[i] for i in order[:6]), "unseen": sorted(picked[i] for i in order[6:])}
+    by_id = {world.house_id: world}
+    return categories, {
+        "seen-goals": _episodes(by_id, goals, categories["seen"], EPISODES_PER_SPLIT, rng),
+        "unseen-goals": _episodes(by_id, goals, categories["unseen"], EPISODES_PER_SPLIT, rng),
+    }
 
-    splits, categories = {}, {}
-    if recipe == "house-single":
-        (world,) = worlds["eval"]
-        usable = common([world])
-        picked = [usable[i] for i in sorted(rng.choice(len(usable), size=HOUSE_SINGLE_TARGETS, replace=False))]
-        order = rng.permutation(HOUSE_SINGLE_TARGETS)
-        categories = {"seen": sorted(picked[i] for i in order[:6]), "unseen": sorted(picked[i] for i in order[6:])}
-        by_id = {world.house_id: world}
-        splits["seen-goals"] = _episodes(by_id, goals, categories["seen"], EPISODES_PER_SPLIT, rng)
-        splits["unseen-goals"] = _episodes(by_id, goals, categories["unseen"], EPISODES_PER_SPLIT, rng)
-    elif recipe == "house-multi":
-        usable = common(worlds["seen-envs"] + worlds["unseen-envs"])
-        if len(usable) < 6:
-            raise RuntimeError(f"only {len(usable)} targets common to all {name} houses: {usable}")
-        categories = {"targets": [usable[i] for i in sorted(rng.choice(len(usable), size=6, replace=False))]}
-        for split in ("seen-envs", "unseen-envs"):
-            by_id = {w.house_id: w for w in worlds[split]}
-            splits[split] = _episodes(by_id, goals, categories["targets"], EPISODES_PER_SPLIT, rng)
-    else:
-        # targets found in at least half of the evaluation houses (an episode's house always has its target)
-        evaluated = worlds["val"] + worlds["test"]
-        usable = _found_in_half(goals, [w.house_id for w in evaluated])
-        order = rng.permutation(len(usable))
-        unseen_count = max(3, len(usable) // 3)
-        categories = {
-            "seen": sorted(usable[i] for i in order[unseen_count:]),
-            "unseen": sorted(usable[i] for i in order[:unseen_count]),
-        }
-        for part in ("val", "test"):
-            by_id = {w.house_id: w for w in worlds[part]}
-            for kind in ("seen", "unseen"):
-                splits[f"{part}-{kind}"] = _episodes(by_id, goals, categories[kind], EPISODES_PER_SPLIT, rng)
-    return _suite_record(name, f"{name}-v1", categories, houses, training, goals, splits)
+
+def _house_multi_refs(name: str, gen: str | None, cache_dir) -> tuple[dict, list]:
+    """Four seen and four unseen houses (medium); no training houses."""
+    return {
+        "seen-envs": [HouseRef(seed=s, size_class="medium", generator=gen) for s in (100, 101, 102, 103)],
+        "unseen-envs": [HouseRef(seed=s, size_class="medium", generator=gen) for s in (200, 201, 202, 203)],
+    }, []
+
+
+def _house_multi_splits(name: str, worlds: dict, goals: dict, rng) -> tuple[dict, dict]:
+    """Six targets common to all the houses, and a split of each set of houses."""
+    usable = _common_targets(goals, worlds["seen-envs"] + worlds["unseen-envs"])
+    if len(usable) < 6:
+        raise RuntimeError(f"only {len(usable)} targets common to all {name} houses: {usable}")
+    categories = {"targets": [usable[i] for i in sorted(rng.choice(len(usable), size=6, replace=False))]}
+    splits = {}
+    for split in ("seen-envs", "unseen-envs"):
+        by_id = {w.house_id: w for w in worlds[split]}
+        splits[split] = _episodes(by_id, goals, categories["targets"], EPISODES_PER_SPLIT, rng)
+    return categories, splits
+
+
+def _house_gen_refs(name: str, gen: str | None, cache_dir) -> tuple[dict, list]:
+    """40 training houses, 10 validation and 10 test houses generated as test houses."""
+    return {
+        "val": [HouseRef(seed=s, split="test", generator=gen) for s in range(2000, 2010)],
+        "test": [HouseRef(seed=s, split="test", generator=gen) for s in range(3000, 3010)],
+    }, [HouseRef(seed=s, generator=gen) for s in range(1000, 1040)]
+
+
+def _house_gen_splits(name: str, worlds: dict, goals: dict, rng) -> tuple[dict, dict]:
+    """Targets found in at least half of the evaluation houses (an episode's house always has
+    its target), a third of them (at least 3) unseen; seen and unseen splits of both parts."""
+    evaluated = worlds["val"] + worlds["test"]
+    usable = _found_in_half(goals, [w.house_id for w in evaluated])
+    order = rng.permutation(len(usable))
+    unseen_count = max(3, len(usable) // 3)
+    categories = {
+        "seen": sorted(usable[i] for i in order[unseen_count:]),
+        "unseen": sorted(usable[i] for i in order[:unseen_count]),
+    }
+    splits = {}
+    for part in ("val", "test"):
+        by_id = {w.house_id: w for w in worlds[part]}
+        for kind in ("seen", "unseen"):
+            splits[f"{part}-{kind}"] = _episodes(by_id, goals, categories[kind], EPISODES_PER_SPLIT, rng)
+    return categories, splits
+
+
+def _common_targets(goals: dict, worlds: list[World]) -> list[str]:
+    """The targets with goal poses in every house of ``worlds``, sorted."""
+    return sorted(set.intersection(*(set(goals[w.house_id]) for w in worlds)))
+
+
+def _house_recipe(pick, draw):
+    """A recipe of generated houses: ``pick(name, generator, cache_dir)`` picks the evaluation
+    houses by part and the training houses, ``draw(name, worlds, goals, rng)`` the categories and
+    splits. A shuffled suite's houses are its base suite's with their objects shuffled."""
+
+    def build(name: str, gen: str | None, rng: np.random.Generator, cache_dir) -> dict:
+        eval_refs, train_refs = pick(name, gen, cache_dir)
+        if SHIPPED_SUITES[name].shuffled_of:  # the same houses, their objects shuffled
+            eval_refs = {key: [replace(r, placement="shuffled") for r in refs] for key, refs in eval_refs.items()}
+            train_refs = [replace(r, placement="shuffled") for r in train_refs]
+        worlds = {key: [World.load(r) for r in refs] for key, refs in eval_refs.items()}
+        houses, goals = {}, {}
+        for key, refs in eval_refs.items():
+            for ref, world in zip(refs, worlds[key]):
+                houses[world.house_id] = house_entry(world, ref)
+                goals[world.house_id] = _goal_table(world, TARGETS, cache_dir)
+        training = {}
+        for ref in train_refs:
+            world = World.load(ref)
+            training[world.house_id] = house_entry(world, ref)
+        categories, splits = draw(name, worlds, goals, rng)
+        return _suite_record(name, f"{name}-v1", categories, houses, training, goals, splits)
+
+    return build
+
+
+# How each recipe (``ShippedSuite.recipe``) builds a suite: (name, generator, rng, cache_dir) -> the file's content
+RECIPES = {
+    "house-single": _house_recipe(_house_single_refs, _house_single_splits),
+    "house-multi": _house_recipe(_house_multi_refs, _house_multi_splits),
+    "house-gen": _house_recipe(_house_gen_refs, _house_gen_splits),
+    # single functional rooms, the paper's AI2-THOR protocol
+    "rooms": lambda name, gen, rng, cache_dir: build_rooms_suite(name, f"{name}-v1", rng, cache_dir),
+    # the large-house tier and its sweep: a tier's placements are drawn together
+    "house-large": lambda name, gen, rng, cache_dir: build_tier_suite(name, cache_dir),
+}
 
 
 def suite_from_houses(

@@ -1,0 +1,151 @@
+"""The parts of a house suite file that every builder of one makes the same way (``suite_build``'s
+recipes and ``suite_from_houses``, ``rooms_suite``, ``large_suite``): a house's entry
+(``house_entry``), the goal poses of its targets (``_goal_ids``, ``_goal_table``), episodes drawn
+with their starts (``_episodes``) and the file's record with the settings every suite records
+(``_suite_record``). The names with ``_`` are the builders' own, not an API.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from objsearch.errors import UserError
+from objsearch.house.categories import CATEGORY_IDS
+from objsearch.sim.env import START_STEPS, draw_start, entrance_poses
+from objsearch.sim.goals import GOAL_CAMERA, PROTOCOLS, GoalRule, Protocol, goal_poses
+from objsearch.sim.navgraph import NAVGRAPH_VERSION
+from objsearch.sim.suite_schema import content_digest
+from objsearch.sim.world import HouseRef, World
+
+
+def _goal_ids(world: World, targets, cache_dir, rule: GoalRule) -> dict[str, np.ndarray]:
+    """The goal pose ids of each of ``targets`` the house has goal poses for, by ``rule``
+    (rendering the goal camera's cache)."""
+    from objsearch.sim.cache import HouseCache
+
+    cache = HouseCache.open(world, GOAL_CAMERA, cache_dir)
+    semantic, depth = np.asarray(cache.semantic), np.asarray(cache.depth)
+    found = {target: goal_poses(semantic, depth, CATEGORY_IDS[target], rule) for target in targets}
+    return {target: ids for target, ids in found.items() if len(ids)}
+
+
+def _goal_table(world: World, targets, cache_dir, rule: GoalRule = PROTOCOLS["paper"].goal_rule) -> dict[str, list]:
+    """The goal poses by ``rule`` of each of ``targets`` with a pose ``START_STEPS`` from them."""
+    graph = world.graph
+    table = {}
+    for target, goals in _goal_ids(world, targets, cache_dir, rule).items():
+        dist = graph.shortest_steps(goals)
+        if ((dist >= START_STEPS[0]) & (dist <= START_STEPS[1])).any():
+            table[target] = [list(graph.pose_of(int(g))) for g in goals]
+    return table
+
+
+def _episodes(
+    worlds: dict[str, World],
+    goals: dict,
+    targets: list[str],
+    count: int,
+    rng,
+    starts: str = "anywhere",
+    stop: bool = False,
+) -> list[dict]:
+    """``count`` episodes: house and target drawn uniformly (again while the house lacks the
+    target, or, with ``starts="entrance"``, while ``draw_start`` finds no start near its
+    entrance), the start by ``draw_start``; ``min_steps`` counts the STOP with ``stop``."""
+    names = sorted(worlds)
+    near = {house: entrance_poses(world) for house, world in worlds.items()} if starts == "entrance" else {}
+
+    def steps_to_goals(house, target):
+        graph = worlds[house].graph
+        return graph.shortest_steps([graph.pose_id(*g) for g in goals[house][target]])
+
+    if near and not any(
+        (near[h] & (steps_to_goals(h, t) >= START_STEPS[0])).any() for h in names for t in targets if t in goals[h]
+    ):  # draw_start would find no start for any house and target: the loop below would not end
+        raise UserError(
+            f"no target ({', '.join(targets)}) has goal poses {START_STEPS[0]} steps or more from the entrance "
+            f"of any of the houses {', '.join(names)}; draw the starts anywhere (starts='anywhere')"
+        )
+    out = []
+    while len(out) < count:
+        house = names[rng.integers(len(names))]
+        target = targets[rng.integers(len(targets))]
+        if target not in goals[house]:
+            continue
+        graph = worlds[house].graph
+        dist = steps_to_goals(house, target)
+        start = draw_start(dist, rng, near.get(house))
+        if start is None:
+            continue
+        out.append(
+            {
+                "house": house,
+                "start": list(graph.pose_of(start)),
+                "target": target,
+                "min_steps": int(dist[start]) + stop,
+            }
+        )
+    return out
+
+
+def house_entry(world: World, ref: HouseRef) -> dict:
+    """The fields a suite file stores for a house (``HouseRef`` fields, with the spec hash):
+    its generator seed, or its folder (``ref.path``)."""
+    if ref.path is not None:
+        return {"path": ref.path, "spec_sha256": world.spec_sha256}
+    entry = {
+        "seed": ref.seed,
+        "split": ref.split,
+        "size_class": world.spec.size_class,
+        "spec_sha256": world.spec_sha256,
+    }
+    if ref.generator is not None:  # left out for house-gen-1 houses, so v1 suite files keep their bytes
+        entry["generator"] = ref.generator
+    if ref.placement is not None:  # left out for functional houses, so their suite files keep their bytes
+        entry["placement"] = ref.placement
+    if ref.room is not None:  # a single room (the rooms suite); left out for houses
+        entry["room"] = ref.room
+    return entry
+
+
+def _suite_record(
+    name: str,
+    version: str | None,
+    categories: dict,
+    houses: dict,
+    training: dict,
+    goals: dict,
+    splits: dict,
+    protocol: Protocol = PROTOCOLS["paper"],
+    starts: str = "anywhere",
+    max_steps: int | None = None,
+    start_steps: tuple[int, int] = START_STEPS,
+    room_max_steps: dict[str, int] | None = None,
+    seeds: tuple[int, ...] | None = None,
+) -> dict:
+    """A suite file's content: the given parts and the settings every suite records, those of
+    ``protocol`` among them. The protocol's name and ``starts`` are recorded only when not the
+    defaults (``paper``, ``anywhere``), and ``room_max_steps`` and ``seeds`` (the standard
+    seeds, where not the paper's) only when given, so that other files keep their bytes. ``max_steps`` None: the protocol's. ``version`` None: ``custom:``
+    and the content's digest."""
+    record = {
+        "suite": name,
+        "version": version,
+        **({"protocol": protocol.name} if protocol.name != "paper" else {}),
+        "navgraph": NAVGRAPH_VERSION,
+        "goal_rule": protocol.goal_rule.to_json(),
+        "goal_camera": GOAL_CAMERA.to_json(),
+        "start_steps": list(start_steps),
+        "max_steps": protocol.max_steps if max_steps is None else max_steps,
+        **({"room_max_steps": dict(room_max_steps)} if room_max_steps else {}),
+        **({"seeds": list(seeds)} if seeds else {}),
+        "categories": categories,
+        "houses": houses,
+        "training_houses": training,
+        "goals": goals,
+        "splits": splits,
+        **({"starts": starts} if starts != "anywhere" else {}),
+    }
+    if version is None:
+        record["version"] = f"custom:{content_digest(record)[:12]}"
+    return record
