@@ -24,6 +24,7 @@ COMMANDS = [
     "objsearch.perception.cache_cli",
     "objsearch.perception.cli",
     "objsearch.train",
+    "objsearch.leaderboard.reproduce",
     "objsearch.data_cli",
     "objsearch.plot_cli",
 ]

@@ -1,0 +1,445 @@
+"""``objsearch reproduce TABLE``: rebuild one of the paper's tables (or ``--suite S --methods
+A,B``) from what is missing, resumably.
+
+The table becomes a plan of steps, each with an output and a "done" check, so that a rerun
+after any interrupt skips what is finished and resumes what was not:
+
+    train SUITE/METHOD/seedK  a training run (``objsearch train``, the shipped recipe) into
+                              CHECKPOINTS/SUITE/METHOD[/seedK]; done: a finished run is there
+    eval SUITE/ENTRY          ``objsearch-eval`` of every training run, into WORK/results/;
+                              done: the results file (an interrupted one resumes its episodes)
+    add SUITE/ENTRY           ``objsearch leaderboard add``; done: the entry holds those results
+    verify SUITE/ENTRY        ``objsearch leaderboard verify``; done: replayed for that content
+    render TABLE              ``objsearch leaderboard render`` and WORK/TABLE.md (always runs)
+
+The recipe of a training run is the ``command.txt`` shipped beside its checkpoint (of its
+seed, else of seed 0 with the seed changed), or the agent's default; a ``--set`` naming a
+file of another run (``pretrained``, ``explorer``) makes that run a step it needs.
+``--dry-run`` prints the plan with each step's estimated time (``reproduce_cost``).
+``--executor ray`` runs the training runs and evaluations as Ray tasks (the records are
+the local run's); add, verify and render run here.
+"""
+
+from __future__ import annotations
+
+import argparse
+import re
+import shlex
+from dataclasses import dataclass, field, replace
+from pathlib import Path
+
+from objsearch.errors import UserError
+
+WORK = "build/reproduce"  # the work folder without --out (results, step records, the table)
+REMOTE = ("train", "eval")  # the steps that --executor ray runs as Ray tasks
+GT_ONLY = ("random",)  # ignores what it sees: its gt row serves both observations (so do privileged agents')
+# --config tiny: a test-sized run (seconds a step); training budgets by world, then config fields set where the agent has them
+TINY = {"runs": 1, "budget": {"house": 2000, "gridworld": 50}, "max_steps": 10, "verify_episodes": 5}
+TINY_FIELDS = {"pretrain_steps": 1000, "pretrain_episodes": 20}
+# a file of another training run named by a recipe's --set: in the shipped folders, or in runs/ as `objsearch train` names them
+RUN_FILE = (
+    re.compile(r"(?:.*/)?agents/checkpoints/(?P<suite>[^/]+)/(?P<agent>[^/]+)/(?:seed(?P<seed>\d+)/)?(?P<rest>.+)"),
+    re.compile(r"runs/(?P<suite>[^/]+)/(?P<agent>[^/]+)-seed(?P<seed>\d+)/(?P<rest>.+)"),
+)
+
+
+@dataclass(frozen=True)
+class Table:
+    """What one of the paper's tables holds: its heading in ``paper_tables.md``, suites,
+    methods (``baseline``: rows the others are read against) and observations."""
+
+    heading: str
+    suites: tuple[str, ...]
+    methods: tuple[str, ...]
+    observations: tuple[str, ...]
+    baseline: tuple[str, ...] = ()
+
+
+def tables() -> dict[str, Table]:
+    """The paper's Tables 1-4, from the leaderboard's own declarations of them."""
+    from objsearch.leaderboard.paper import GRIDWORLD_TABLES, HOUSE3D_SPLITS, HOUSE3D_TABLE
+    from objsearch.leaderboard.table4 import ROOMS_SUITE, TABLE4_METHODS
+
+    grid = list(GRIDWORLD_TABLES.values())
+    house3d = tuple(dict.fromkeys(suite for suite, _ in HOUSE3D_SPLITS))
+    return {
+        "table1": Table("## Table 1", ("gridworld",), grid[0], ("gt",)),
+        "table2": Table("## Table 2", ("gridworld",), grid[1], ("gt",)),
+        "table3": Table("## Table 3", house3d, HOUSE3D_TABLE, ("gt", "predicted")),
+        "table4": Table("## Table 4", (ROOMS_SUITE,), TABLE4_METHODS, ("gt", "predicted"), ("random",)),
+    }
+
+
+@dataclass
+class Step:
+    """One step of a plan: ``kind`` (train, eval, add, verify, render), ``name``, the ids of
+    the steps it ``needs``, and its arguments (plain data: they travel to Ray workers)."""
+
+    kind: str
+    name: str
+    needs: list[str] = field(default_factory=list)
+    args: dict = field(default_factory=dict)
+
+    @property
+    def id(self) -> str:
+        """``kind name``, e.g. ``train rooms/a3c/seed0``."""
+        return f"{self.kind} {self.name}"
+
+
+@dataclass
+class Plan:
+    """The steps of a reproduction in an order that runs each after those it needs."""
+
+    title: str
+    steps: list[Step]
+    checkpoints: Path
+    shipped: Path
+    leaderboard: Path
+    work: Path
+
+    def record(self, step: Step) -> Path:
+        """The record a finished step leaves (its wall time): ``WORK/steps/<kind>-<name>.json``."""
+        return self.work / "steps" / f"{step.kind}-{step.name.replace('/', '-')}.json"
+
+
+def add_parser(subparsers) -> None:
+    """Add ``objsearch reproduce`` to ``subparsers``."""
+    from objsearch.cliargs import key_value, positive_int, seed_list
+    from objsearch.cluster import EXECUTORS
+
+    names = lambda text: tuple(dict.fromkeys(s.strip() for s in text.split(",") if s.strip()))  # noqa: E731
+    p = subparsers.add_parser(
+        "reproduce",
+        help="train what is missing, evaluate, add, verify and render one of the paper's tables (resumable)",
+        description=__doc__,
+        formatter_class=argparse.RawDescriptionHelpFormatter,
+    )
+    p.add_argument("table", nargs="?", metavar="TABLE", help="table1, table2, table3 or table4 (or 1-4)")
+    p.add_argument("--suite", help="the suite (without TABLE), or one of TABLE's suites")
+    p.add_argument("--methods", type=names, help="comma-separated agents (without TABLE), or some of TABLE's")
+    p.add_argument("--observations", type=names, help="gt and/or predicted (default: the table's; gt without TABLE)")
+    p.add_argument("--runs", type=positive_int, help="training runs per learned method (default: 3; 1 on gridworld)")
+    p.add_argument(
+        "--out",
+        help="put everything in DIR: DIR/checkpoints, DIR/leaderboard, results and step records (default: the "
+        f"shipped agents/checkpoints and leaderboard/, work files in {WORK})",
+    )
+    p.add_argument(
+        "--leaderboard",
+        metavar="DIR",
+        help="the leaderboard to add to (default: ./leaderboard, DIR/leaderboard with --out)",
+    )
+    p.add_argument(
+        "--config",
+        choices=("paper", "tiny"),
+        default="paper",
+        help="tiny: a test-sized run (needs --out): 1 run, 2000 training steps (50 episodes on gridworld), gt only, "
+        "the first split and seed, 10-step episodes, 5 episodes verified; entries are partial (default: paper)",
+    )
+    p.add_argument(
+        "--train-budget",
+        type=positive_int,
+        metavar="N",
+        help="training steps (house) or episodes (gridworld) of every run",
+    )
+    p.add_argument(
+        "--train-set",
+        type=key_value,
+        action="append",
+        default=[],
+        metavar="KEY=VALUE",
+        help="a training config field for every run; repeatable",
+    )
+    p.add_argument("--splits", type=names, help="evaluate only these splits (entries are partial)")
+    p.add_argument("--seeds", type=seed_list, help="evaluation seeds (default: the suite's standard ones)")
+    p.add_argument("--max-steps", type=positive_int, help="episode step limit (default: the suite's; else partial)")
+    p.add_argument(
+        "--verify-episodes", type=positive_int, metavar="K", help="episodes replayed per entry (default: verify's)"
+    )
+    p.add_argument(
+        "--batch", type=positive_int, default=32, help="episodes per evaluation worker in lockstep (default: 32)"
+    )
+    p.add_argument(
+        "--dry-run", action="store_true", help="print the plan and its estimated time on this machine; run nothing"
+    )
+    p.add_argument(
+        "--executor", choices=EXECUTORS, default="local", help="ray: training runs and evaluations as Ray tasks"
+    )
+    p.add_argument("--address", metavar="ADDR", help="with --executor ray: the cluster (default: start a local one)")
+    p.add_argument("--workers", type=positive_int, help="evaluation processes here, or the CPUs of a local Ray cluster")
+    p.add_argument("--quiet", action="store_true", help="no progress bars")
+    p.set_defaults(func=run)
+
+
+def run(args: argparse.Namespace) -> int:
+    """``objsearch reproduce``: plan, then print the plan (``--dry-run``) or run what is not done."""
+    from objsearch.cluster import check_executor_arguments
+
+    check_executor_arguments(args)
+    plan = make_plan(args)
+    if args.dry_run:
+        from objsearch.leaderboard.reproduce_cost import print_plan
+
+        print_plan(plan)
+        return 0
+    from objsearch.leaderboard.reproduce_run import execute
+
+    execute(plan, args.executor, args.address, args.workers, progress=not args.quiet)
+    return 0
+
+
+def _pick(table: str | None, suite: str | None, methods: tuple | None) -> tuple[str, Table]:
+    """The title and ``Table`` that TABLE, ``--suite`` and ``--methods`` name."""
+    from objsearch.eval.registry import resolve_agent
+    from objsearch.eval.suites import SUITES
+
+    if suite is not None and suite not in SUITES:
+        raise UserError(f"--suite {suite}: unknown suite; choose one of {', '.join(SUITES)}")
+    if table is None:
+        if suite is None or not methods:
+            raise UserError(
+                "name a table (objsearch reproduce table4), or a suite and methods: --suite rooms --methods a3c"
+            )
+        for method in methods:
+            resolve_agent(method)  # unknown agent: a UserError that names it and the fix
+        return f"{suite}: {', '.join(methods)}", Table("", (suite,), methods, ("gt",))
+    known = tables()
+    key = re.sub(r"[\s_-]", "", table.lower())
+    key = f"table{key}" if key.isdigit() else key
+    if key not in known:
+        raise UserError(
+            f"unknown table {table!r}; choose one of {', '.join(known)} (the paper's Tables 1-4), or pass --suite and --methods"
+        )
+    chosen = known[key]
+    if suite is not None and suite not in chosen.suites:
+        raise UserError(
+            f"--suite {suite} is not in {key} (its suites: {', '.join(chosen.suites)}); drop --suite or pick one of those"
+        )
+    unknown = [m for m in methods or () if m not in chosen.methods + chosen.baseline]
+    if unknown:
+        raise UserError(
+            f"--methods {','.join(unknown)}: not in {key} (its methods: {', '.join(chosen.methods)}); pick some of those"
+        )
+    picked = tuple(m for m in chosen.baseline + chosen.methods if not methods or m in methods or m in chosen.baseline)
+    return key, replace(chosen, suites=(suite,) if suite else chosen.suites, methods=tuple(dict.fromkeys(picked)))
+
+
+def make_plan(args: argparse.Namespace) -> Plan:
+    """The plan for the parsed ``objsearch reproduce`` arguments (``UserError`` for bad input)."""
+    import importlib.util
+
+    from objsearch.eval.registry import is_privileged, registered_agents
+    from objsearch.eval.suites import suite_world
+
+    title, table = _pick(args.table, args.suite, args.methods)
+    tiny = args.config == "tiny"
+    if tiny and args.out is None:
+        raise UserError(
+            "--config tiny makes test-sized checkpoints and entries: pass --out DIR to keep them apart from the shipped ones"
+        )
+    observations = args.observations or (("gt",) if tiny else table.observations)
+    bad = [o for o in observations if o not in ("gt", "predicted")]
+    if bad:
+        raise UserError(f"--observations {','.join(bad)}: choose gt and/or predicted")
+    shipped = Path(importlib.util.find_spec("objsearch_agents").submodule_search_locations[0]) / "checkpoints"
+    out = Path(args.out).resolve() if args.out else None
+    plan = Plan(
+        title,
+        [],
+        out / "checkpoints" if out else shipped,
+        shipped,
+        Path(args.leaderboard or (out / "leaderboard" if out else "leaderboard")).resolve(),
+        out or Path(WORK).resolve(),
+    )
+    agents = registered_agents()
+    for suite in table.suites:
+        world = suite_world(suite)
+        runs = args.runs or (TINY["runs"] if tiny else 1 if world == "gridworld" else 3)
+        if runs > 1 and world == "gridworld":
+            raise UserError(
+                "grid-world agents are evaluated from one training run (their checkpoint folder); pass --runs 1"
+            )
+        if runs > 1 and plan.checkpoints != shipped:
+            raise UserError(
+                f"--runs {runs} with --out: an evaluation finds several training runs only in the agents' own folder "
+                f"({shipped}); pass --runs 1 with --out, or reproduce into the shipped folders (no --out)"
+            )
+        budget = args.train_budget or (TINY["budget"][world] if tiny else None)
+        train = _Trainer(plan, world, budget, list(args.train_set), tiny)
+        evals = []
+        for method in table.methods:
+            base = method[: -len("_greedy")] if method.endswith("_greedy") and method[:-7] in agents else method
+            needs = [train.need(suite, base, k) for k in range(runs)] if _trainable(base) else []
+            greedy = (
+                [f"{method}_greedy"]
+                if table.heading in ("## Table 1", "## Table 2") and f"{method}_greedy" in agents and needs
+                else []
+            )
+            for name in [method, *greedy]:
+                for observation in ("gt",) if name in GT_ONLY or is_privileged(name) else observations:
+                    evals.append(_entry_steps(plan, args, suite, name, observation, needs, base, tiny))
+        plan.steps += train.steps + [step for steps in evals for step in steps]
+    verified = [s.id for s in plan.steps if s.kind == "verify"]
+    render = {
+        "leaderboard": str(plan.leaderboard),
+        "heading": table.heading,
+        "table": str(plan.work / f"{title.split(':')[0]}.md"),
+    }
+    plan.steps.append(Step("render", title.split(":")[0], verified, render))
+    return plan
+
+
+def _trainable(agent: str) -> bool:
+    """Whether ``agent`` is learned: it has a ``train`` hook and is not one of the training-free agents."""
+    from objsearch.eval.registry import resolve_agent
+    from objsearch.leaderboard.paper import TRAINING_FREE
+
+    return agent not in TRAINING_FREE and callable(getattr(resolve_agent(agent), "train", None))
+
+
+def run_folder(root: Path, suite: str, agent: str, seed: int) -> Path:
+    """A training run's folder: ``ROOT/SUITE/AGENT`` for seed 0, ``.../seedK`` for the others."""
+    return root / suite / agent / (f"seed{seed}" if seed else "")
+
+
+class _Trainer:
+    """The training steps of one suite's plan, with the runs they need (added first)."""
+
+    def __init__(self, plan: Plan, world: str, budget: int | None, overrides: list, tiny: bool):
+        self.plan, self.world, self.budget, self.overrides, self.tiny = plan, world, budget, overrides, tiny
+        self.steps: list[Step] = []
+
+    def need(self, suite: str, agent: str, seed: int) -> str:
+        """The id of the step that trains ``agent``'s run ``seed`` on ``suite``, planned if new."""
+        name = f"{suite}/{agent}/seed{seed}"
+        if any(s.name == name for s in self.steps):
+            return f"train {name}"
+        recipe, source = _recipe(self.plan.shipped, suite, agent, seed)
+        needs, overrides = [], {}
+        for key, value in recipe.overrides:
+            ref = next((m for m in (p.fullmatch(value) for p in RUN_FILE) if m), None)
+            if ref and key in (
+                "pretrained",
+                "explorer",
+            ):  # another run's file: that run (of this seed, if seed 0's recipe)
+                of = int(ref["seed"] or 0)
+                of = seed if of == recipe.seed else of
+                needs.append(self.need(ref["suite"], ref["agent"], of))
+                value = str(run_folder(self.plan.checkpoints, ref["suite"], ref["agent"], of) / ref["rest"])
+            overrides[key] = value
+        if self.tiny:
+            overrides |= _tiny_fields(agent, suite, self.budget)
+        overrides |= dict(self.overrides)
+        budget = {"steps": recipe.steps, "episodes": recipe.episodes}
+        if self.budget is not None:
+            budget = (
+                {"steps": self.budget, "episodes": None}
+                if self.world == "house"
+                else {"steps": None, "episodes": self.budget}
+            )
+        out = run_folder(self.plan.checkpoints, suite, agent, seed)
+        argv = (
+            ["--agent", agent, "--suite", suite, "--seed", str(seed)]
+            + [x for key in ("steps", "episodes") if budget[key] for x in (f"--{key}", str(budget[key]))]
+            + [x for kv in overrides.items() for x in ("--set", "=".join(kv))]
+            + ["--out", str(out), "--quiet"]
+        )
+        args = {
+            "agent": agent,
+            "suite": suite,
+            "seed": seed,
+            "out": str(out),
+            "overrides": list(overrides.items()),
+            **budget,
+        }
+        args |= {"command": "objsearch train " + shlex.join(argv), "recipe": source}
+        self.steps.append(Step("train", name, needs, args))
+        return f"train {name}"
+
+
+@dataclass
+class _Recipe:
+    seed: int
+    steps: int | None
+    episodes: int | None
+    overrides: list
+
+
+def _recipe(shipped: Path, suite: str, agent: str, seed: int) -> tuple[_Recipe, str]:
+    """The shipped recipe of ``agent``'s run ``seed`` on ``suite`` (its ``command.txt``, else
+    seed 0's), and where it came from; the agent's default recipe if none is shipped."""
+    from objsearch.train import add_parser as train_parser
+
+    for folder, of_seed in ((run_folder(shipped, suite, agent, seed), seed), (run_folder(shipped, suite, agent, 0), 0)):
+        command = folder / "command.txt"
+        lines = (
+            [line for line in command.read_text().splitlines() if line.startswith("objsearch train")]
+            if command.is_file()
+            else []
+        )
+        if lines:
+            parser = argparse.ArgumentParser(prog="objsearch", add_help=False)
+            train_parser(parser.add_subparsers())
+            parsed = parser.parse_args(shlex.split(lines[0])[1:])
+            return _Recipe(of_seed, parsed.steps, parsed.episodes, parsed.overrides), str(command)
+    return _Recipe(seed, None, None, []), f"{agent}'s default recipe (no command.txt is shipped for {suite})"
+
+
+def agent_config(agent: str, suite: str):
+    """The training config (a dataclass) ``agent`` trains with on ``suite``'s world by
+    default; None if its class shows none."""
+    import dataclasses
+
+    from objsearch.eval.registry import resolve_agent
+    from objsearch.eval.suites import suite_world
+
+    cls = resolve_agent(agent)
+    owner = cls.house if suite_world(suite) == "house" and getattr(cls, "house", None) else cls
+    config = getattr(owner, "config", None)
+    return config if dataclasses.is_dataclass(config) else None
+
+
+def _tiny_fields(agent: str, suite: str, budget: int) -> dict:
+    """``--config tiny``'s training fields that ``agent``'s config has for ``suite``: short
+    pretraining, a log row and a checkpoint within the budget."""
+    config = agent_config(agent, suite)
+    wanted = {**TINY_FIELDS, "log_every": max(1, budget // 2), "checkpoint_every": budget}
+    return {key: str(value) for key, value in wanted.items() if hasattr(config, key)}
+
+
+def _entry_steps(
+    plan: Plan, args, suite: str, name: str, observation: str, needs: list, base: str, tiny: bool
+) -> list[Step]:
+    """The eval, add and verify steps of the entry ``name`` (with ``_predicted`` for predicted observations)."""
+    from objsearch.eval.suites import make_suite, standard_seeds
+    from objsearch.leaderboard.paper import PREDICTED_SUFFIX
+
+    entry = name + (PREDICTED_SUFFIX if observation == "predicted" else "")
+    suite_config = {"observation": observation} if observation == "predicted" else {}
+    max_steps = args.max_steps or (TINY["max_steps"] if tiny else None)
+    if max_steps:
+        suite_config["max_steps"] = max_steps
+    splits = args.splits or ((make_suite(suite).splits[0],) if tiny else ())
+    seeds = args.seeds or (standard_seeds(suite)[:1] if tiny else standard_seeds(suite))
+    checkpoint = (
+        None
+        if plan.checkpoints == plan.shipped or not needs
+        else str(run_folder(plan.checkpoints, suite, base, 0) / "policy.pt")
+    )
+    results = plan.work / "results" / suite / f"{entry}.json"
+    stored = plan.leaderboard / "submissions" / suite / f"{entry}.json"
+    config = {"agent": name, "suite": suite, "splits": list(splits), "seeds": list(seeds), "checkpoint": checkpoint}
+    common = {"leaderboard": str(plan.leaderboard), "results": str(results), "entry": entry, "stored": str(stored)}
+    key = f"{suite}/{entry}"
+    return [
+        Step(
+            "eval", key, needs, {**config, "suite_config": suite_config, "batch": args.batch, "results": str(results)}
+        ),
+        Step("add", key, [f"eval {key}"], common),
+        Step(
+            "verify",
+            key,
+            [f"add {key}"],
+            {**common, "episodes": args.verify_episodes or (TINY["verify_episodes"] if tiny else None)},
+        ),
+    ]

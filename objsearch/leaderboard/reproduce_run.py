@@ -1,0 +1,213 @@
+"""Running an ``objsearch reproduce`` plan (``reproduce.Plan``): which steps are done, and
+each step, here or as a Ray task. Every step reuses a command's own function: ``objsearch
+train``, ``evaluate``, ``objsearch leaderboard add``, ``verify`` and ``render``."""
+
+from __future__ import annotations
+
+import argparse
+import sys
+import time
+from pathlib import Path
+
+from objsearch.errors import UserError
+from objsearch.leaderboard.reproduce import REMOTE, Plan, Step
+
+
+def is_done(plan: Plan, step: Step) -> bool:
+    """Whether ``step``'s output is there and finished (so a rerun skips it)."""
+    from objsearch.leaderboard.validate import content_sha256, load_submission, replay_count, replayed_of
+
+    a = step.args
+    if step.kind == "train":  # recorded here, or a run that kept no training state (a shipped one)
+        return plan.record(step).is_file() or (
+            Path(a["out"], "policy.pt").is_file() and not Path(a["out"], "state.pt").exists()
+        )
+    if step.kind == "render" or not Path(a["results"]).is_file():
+        return False
+    results = load_submission(a["results"])
+    if step.kind == "eval":
+        return not any("error" in r for r in results["episodes"])
+    if not Path(a["stored"]).is_file():
+        return False
+    stored = load_submission(a["stored"])
+    same = content_sha256({k: v for k, v in stored.items() if k != "partial"}) == content_sha256(results)
+    if step.kind == "add" or not same:
+        return same
+    replayed = replayed_of(stored)
+    return replayed is not None and replayed[0] >= replay_count(stored, a["episodes"])
+
+
+def execute(
+    plan: Plan, executor: str = "local", address: str | None = None, workers: int | None = None, progress: bool = True
+) -> None:
+    """Run every step of ``plan`` that is not done, each after those it needs: here, or the
+    training runs and evaluations as Ray tasks (``executor`` ray, on the cluster at ``address``
+    or a local one of ``workers`` CPUs). Each finished step leaves its record (``Plan.record``)."""
+    from objsearch.cluster import one_math_thread
+
+    one_math_thread()  # small networks: more torch threads only fight whatever else runs
+    todo = [step for step in plan.steps if not is_done(plan, step)]
+    finished = {step.id for step in plan.steps} - {step.id for step in todo}
+    _say(f"{plan.title}: {len(plan.steps)} steps, {len(finished)} done already, {len(todo)} to run ({executor})")
+    if executor == "ray":
+        _execute_ray(plan, todo, finished, address, workers, progress)
+    else:
+        for i, step in enumerate(todo):
+            _say(f"[{i + 1}/{len(todo)}] {step.id}")
+            _finish(plan, step, run_step(step.kind, step.args, progress, workers or 1), executor)
+    render = plan.steps[-1].args
+    print(
+        f"reproduced {plan.title}: entries in {render['leaderboard']}"
+        + (f", the table in {render['table']}" if render["heading"] else "")
+    )
+
+
+def _execute_ray(plan: Plan, todo: list[Step], finished: set[str], address, workers, progress: bool) -> None:
+    """``execute`` on Ray: every training run and evaluation whose needs are done runs as a
+    task (1 CPU); add, verify and render run here, one at a time, while the tasks go on."""
+    from objsearch.cluster import ray_session
+
+    with ray_session(address, workers) as ray:
+        task, running = ray.remote(num_cpus=1)(_remote_step), {}
+        while todo or running:
+            ready = [step for step in todo if all(need in finished for need in step.needs)]
+            for step in ready:
+                todo.remove(step)
+                if step.kind in REMOTE:
+                    running[task.remote(step.kind, step.args)] = step
+                    _say(f"started {step.id} (a Ray task)")
+            for step in [step for step in ready if step.kind not in REMOTE]:
+                _say(step.id)
+                _finish(plan, step, run_step(step.kind, step.args, progress), "ray")
+                finished.add(step.id)
+            if any(all(need in finished for need in step.needs) for step in todo) or not running:
+                continue
+            (ref,), _ = ray.wait(list(running), num_returns=1)
+            step = running.pop(ref)
+            try:
+                wall = ray.get(ref)
+            except ray.exceptions.RayTaskError as err:
+                if isinstance(err.cause, (UserError, KeyboardInterrupt)):
+                    raise err.cause from None
+                raise
+            _finish(plan, step, wall, "ray")
+            finished.add(step.id)
+
+
+def _remote_step(kind: str, args: dict) -> float:
+    """A Ray task: one step in a worker, with one math thread; its wall seconds."""
+    from objsearch.cluster import one_math_thread
+
+    one_math_thread()
+    return run_step(kind, args, progress=False)
+
+
+def _finish(plan: Plan, step: Step, wall_s: float, executor: str) -> None:
+    """Record that ``step`` finished, and how long it took (``--dry-run`` shows it)."""
+    from objsearch.fileio import write_json
+
+    write_json(plan.record(step), {"step": step.id, "wall_s": round(wall_s, 1), "executor": executor})
+    _say(f"{step.id}: done in {wall_s:.1f} s")
+
+
+def _say(line: str) -> None:
+    print(f"reproduce: {line}", file=sys.stderr, flush=True)
+
+
+def run_step(kind: str, args: dict, progress: bool = True, workers: int = 1) -> float:
+    """Run one step in this process (``workers``: evaluation processes); its wall seconds."""
+    start = time.monotonic()
+    {"train": _train, "eval": _evaluate, "add": _add, "verify": _verify, "render": _render}[kind](
+        args, progress, workers
+    )
+    return time.monotonic() - start
+
+
+def _train(a: dict, progress: bool, workers: int) -> None:
+    """``objsearch train`` with the step's recipe; it resumes a run it finds in the folder."""
+    from objsearch import train
+    from objsearch.fileio import atomic_write
+    from objsearch.interrupt import Terminated
+
+    out = Path(a["out"])
+    out.mkdir(parents=True, exist_ok=True)
+    with atomic_write(out / "command.txt") as f:
+        f.write(a["command"] + "\n")
+    status = train.run(
+        argparse.Namespace(
+            agent=a["agent"], suite=a["suite"], episodes=a["episodes"], steps=a["steps"], seed=a["seed"], out=str(out),
+            overrides=[tuple(kv) for kv in a["overrides"]], fresh=False, quiet=not progress,
+        )
+    )  # fmt: skip
+    if status:
+        saved = f"training run {a['suite']}/{a['agent']} seed {a['seed']} stopped, its checkpoint in {out}; rerun the same command to resume"
+        raise (Terminated if status == 143 else KeyboardInterrupt)(saved)
+
+
+def _evaluate(a: dict, progress: bool, workers: int) -> None:
+    """``objsearch-eval --out RESULTS``: it resumes its episodes, and plays again those of a
+    finished run that ended in an error (``--retry-failed``)."""
+    from objsearch.eval.config import EvalConfig
+    from objsearch.eval.runner import evaluate
+
+    config = EvalConfig(
+        agent=a["agent"], suite=a["suite"], splits=tuple(a["splits"]), seeds=tuple(a["seeds"]),
+        checkpoint=a["checkpoint"], suite_config=dict(a["suite_config"]),
+    )  # fmt: skip
+    retry = Path(a["results"]).is_file()
+    results = evaluate(config, workers, progress, out=a["results"], batch=a["batch"], retry_failed=retry)
+    failed = sum("error" in r for r in results["episodes"])
+    if failed:
+        raise UserError(
+            f"{failed} episode(s) of {a['agent']} on {a['suite']} ended in an agent error ({a['results']}); rerun to play them again"
+        )
+
+
+def _add(a: dict, progress: bool, workers: int) -> None:
+    """``objsearch leaderboard add --replace`` (``--partial`` for results of some splits or seeds)."""
+    from objsearch.leaderboard.cli import run_add
+    from objsearch.leaderboard.validate import check_submission, load_submission
+
+    results = load_submission(a["results"])
+    partial = bool(check_submission(results)) and not check_submission({**results, "partial": True})
+    run_add(
+        argparse.Namespace(
+            dir=a["leaderboard"], file=a["results"], name=a["entry"], replace=True, partial=partial, create=True
+        )
+    )
+
+
+def _verify(a: dict, progress: bool, workers: int) -> None:
+    """``objsearch leaderboard verify ENTRY`` (``--episodes`` if the plan sets it)."""
+    from objsearch.leaderboard.cli import run_verify
+
+    run_verify(
+        argparse.Namespace(dir=a["leaderboard"], entries=[a["stored"]], all=False, episodes=a["episodes"], trust=False)
+    )
+
+
+def _render(a: dict, progress: bool, workers: int) -> None:
+    """``objsearch leaderboard render``, and the table's section of ``paper_tables.md`` over
+    every stored entry, partial ones included, in the plan's table file."""
+    from objsearch.fileio import atomic_write
+    from objsearch.leaderboard.cli import run_render
+    from objsearch.leaderboard.render import render_paper_tables, stored_submissions
+
+    run_render(argparse.Namespace(dir=a["leaderboard"]))
+    if not a["heading"]:
+        return
+    entries = stored_submissions(a["leaderboard"])
+    lines = render_paper_tables(entries).splitlines()
+    start = next((i for i, line in enumerate(lines) if line.startswith(a["heading"])), None)
+    if start is None:
+        raise UserError(f"{a['leaderboard']} holds no entry of {a['heading'][3:]}: nothing to render")
+    end = next((i for i in range(start + 1, len(lines)) if lines[i].startswith("## ")), len(lines))
+    partial = sorted(f"{r['suite']}/{name}" for name, r in entries if r.get("partial"))
+    note = [
+        f"From the entries of {a['leaderboard']}"
+        + (f"; partial (some splits, seeds or settings): {', '.join(partial)}" if partial else "")
+        + ".",
+        "",
+    ]
+    with atomic_write(a["table"]) as f:
+        f.write("\n".join([lines[start], "", *note, *lines[start + 1 : end]]).rstrip() + "\n")
