@@ -31,9 +31,13 @@ def add_parser(subparsers) -> None:
         "--partial", action="store_true", help="check FILEs as `add --partial` would: some splits or seeds"
     )
     check.set_defaults(func=run_check)
-    add = commands.add_parser("add", help="validate a results JSON, store it and regenerate the pages")
-    add.add_argument("file", metavar="FILE")
-    add.add_argument("--name", help="entry name (default: the agent's name; module:Class gives module.Class)")
+    add = commands.add_parser(
+        "add", help="validate results JSONs, store them and regenerate the pages (several: one check, one write)"
+    )
+    add.add_argument("files", nargs="+", metavar="FILE")
+    add.add_argument(
+        "--name", help="entry name, one FILE only (default: the agent's name; module:Class gives module.Class)"
+    )
     add.add_argument("--replace", action="store_true", help="replace a stored entry of the same name")
     add.add_argument(
         "--partial",
@@ -176,15 +180,16 @@ def run_check(args: argparse.Namespace) -> int:
 
 
 def run_add(args: argparse.Namespace) -> int:
-    """``objsearch leaderboard add``: validate a results file, store it under ``submissions/<suite>/<name>.json``
-    and regenerate the pages.
+    """``objsearch leaderboard add``: validate results files, store each under
+    ``submissions/<suite>/<name>.json`` and regenerate the pages, all in one write.
 
-    The folder must be writable (checked first). The file is validated before the lock is
-    taken; under it, the exists check, the other entries' check, the write and the render.
-    A step that takes longer than a moment says so on stderr (``objsearch.progress``).
+    The folder must be writable (checked first). The files are validated before the lock is
+    taken; under it, the exists checks, the other entries' check (once, however many files),
+    the write and the render: every file is stored, or none. A step that takes longer than a
+    moment says so on stderr (``objsearch.progress``).
 
-    Raises ``UserError`` for a rejected file, a bad ``--name``, an unwritable folder, or an
-    existing entry without ``--replace``.
+    Raises ``UserError`` for a rejected file, a bad ``--name`` (or one with several files), an
+    unwritable folder, two files for one entry, or an existing entry without ``--replace``.
     """
     from objsearch.fileio import check_writable
     from objsearch.leaderboard.render import SUBMISSIONS, render
@@ -194,39 +199,51 @@ def run_add(args: argparse.Namespace) -> int:
     root = Path(args.dir)
     if args.name is not None:
         check_entry_name(args.name, "--name")
+        if len(args.files) > 1:
+            raise UserError(f"--name names one entry, but {len(args.files)} files were given; add them one by one")
     if args.create and not Path(root, SUBMISSIONS).is_dir():
         check_writable(root, "leaderboard folder --dir", folder=True)
         Path(root, SUBMISSIONS).mkdir(parents=True, exist_ok=True)
     _stored(root)
     for folder in (root, Path(root, SUBMISSIONS)):  # the pages, the entries: before the slow validation
         check_writable(folder, "leaderboard folder", folder=True)
-    with stage(f"checking {args.file}"):
-        results = _validated(args.file, args.partial)
-    if results.pop("verified", None) is not None:
-        print(f"note: dropped {args.file}'s own 'verified' record: only verify writes it", file=sys.stderr)
-    name = args.name if args.name is not None else default_name(results["agent"], observation_of(results))
-    check_entry_name(name, f"agent {results['agent']!r}")
-    target = Path(root, SUBMISSIONS, results["suite"], f"{name}.json")
-    check_writable(target, "entry")
+    adding: dict[Path, tuple[str, dict]] = {}  # entry path -> (file, results)
+    for file in args.files:
+        with stage(f"checking {file}"):
+            results = _validated(file, args.partial)
+        if results.pop("verified", None) is not None:
+            print(f"note: dropped {file}'s own 'verified' record: only verify writes it", file=sys.stderr)
+        name = args.name if args.name is not None else default_name(results["agent"], observation_of(results))
+        check_entry_name(name, f"agent {results['agent']!r}")
+        target = Path(root, SUBMISSIONS, results["suite"], f"{name}.json")
+        check_writable(target, "entry")
+        if target in adding:
+            raise UserError(f"{adding[target][0]} and {file} would both be the entry {target}; add one of them")
+        adding[target] = (file, results)
+    digests = {content_sha256(results): file for file, results in adding.values()}
+    if len(digests) < len(adding):
+        raise UserError(f"two of {', '.join(args.files)} hold the same results: one result is one entry")
     with _writing(root):
-        if target.exists() and not args.replace:
-            raise UserError(f"{target} exists; pass --replace to replace it or --name to add another entry")
-        digest = content_sha256(results)
-        others = [path for path in _stored(root) if path != target]
+        for target in adding:
+            if target.exists() and not args.replace:
+                raise UserError(f"{target} exists; pass --replace to replace it or --name to add another entry")
+        others = [path for path in _stored(root) if path not in adding]
         with progress_bar(len(others), "checking the stored entries", "entry", delay=STAGE_DELAY_S) as bar:
             for path in others:  # the pages are rendered from every stored entry: refuse before writing
-                if content_sha256(_validated(path, stored=True)) == digest:
+                file = digests.get(content_sha256(_validated(path, stored=True)))
+                if file is not None:
                     raise UserError(
-                        f"{args.file} holds the same results as the stored entry {path}: one result is one entry; "
+                        f"{file} holds the same results as the stored entry {path}: one result is one entry; "
                         f"pass --replace --name {path.stem} to store it again under that name"
                     )
                 bar.update()
         with stage("rendering the pages"):
-            written = render(root, add=(target, results))
+            written = render(root, store={target: results for target, (_, results) in adding.items()})
     for path in written:
-        if path != target:
+        if path not in adding:
             print(f"wrote {path}", file=sys.stderr)
-    print(f"added {target}" + (" (partial: listed apart, not ranked)" if results.get("partial") else ""))
+    for target, (_, results) in adding.items():
+        print(f"added {target}" + (" (partial: listed apart, not ranked)" if results.get("partial") else ""))
     return 0
 
 

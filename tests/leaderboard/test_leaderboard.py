@@ -117,6 +117,29 @@ def test_add_check_and_render_through_the_cli(tmp_path, full_oracle, full_random
     assert "*paper: HRL-GRG* | | *gt*" in readme
 
 
+def test_add_stores_several_files_in_one_write_or_none(tmp_path, full_oracle, full_random):
+    (tmp_path / "oracle.json").write_text(json.dumps(full_oracle))
+    (tmp_path / "random.json").write_text(json.dumps(full_random))
+    bad = copy.deepcopy(full_random)
+    bad["episodes"].pop()
+    (tmp_path / "bad.json").write_text(json.dumps(bad))
+    stored = tmp_path / "leaderboard/submissions/gridworld"
+
+    out = cli("add", "oracle.json", "bad.json", "--create", cwd=tmp_path)
+    assert out.returncode == 2 and "bad.json is rejected" in out.stderr and not stored.exists()
+    out = cli("add", "oracle.json", "random.json", "--name", "mine", "--create", cwd=tmp_path)
+    assert out.returncode == 2 and "--name names one entry" in out.stderr
+    out = cli("add", "oracle.json", "oracle.json", "--create", cwd=tmp_path)
+    assert out.returncode == 2 and "would both be the entry" in out.stderr and "Traceback" not in out.stderr
+
+    out = cli("add", "oracle.json", "random.json", "--create", cwd=tmp_path)
+    assert out.returncode == 0, out.stderr
+    assert sorted(p.name for p in stored.iterdir()) == ["oracle.json", "random.json"]
+    assert out.stdout.count("added ") == 2
+    readme = (tmp_path / "leaderboard/README.md").read_text()
+    assert "| 1 | random | random | gt |" in readme and "| privileged | oracle |" in readme
+
+
 def test_pages_come_from_the_stored_submissions_alone(tmp_path, oracle_results):
     store = tmp_path / "submissions" / "gridworld"
     store.mkdir(parents=True)
