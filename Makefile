@@ -62,6 +62,10 @@ LEADERBOARD_HOUSE ?= house-single:a3c house-single:dqn house-single:hrl_grg hous
 LEADERBOARD_HOUSE_TRAINED_PREDICTED ?= house-single:a3c house-single:hrl_grg_explorer
 # training-free reference agents on every house suite, evaluated on gt and on predicted observations
 LEADERBOARD_HOUSE_REFERENCE ?= frontier
+# the large-house tier's size sweep (docs/large_houses.md): frontier and the prior agents, gt, stored in one add
+LEADERBOARD_SWEEP_SUITES ?= house-size-4 house-size-4-shuffled house-size-7 house-size-7-shuffled \
+	house-size-10 house-size-10-shuffled house-size-14 house-size-14-shuffled
+LEADERBOARD_SWEEP_AGENTS ?= frontier room_prior_frontier object_prior_frontier
 # one shell step of the loops below: evaluate $$agent on $$suite on gt and on predicted observations, store both
 EVAL_GT_AND_PREDICTED = $(BIN)/objsearch-eval --agent $$agent --suite $$suite --batch 32 --quiet --out build/$$suite-$$agent.json && \
 	  $(BIN)/objsearch leaderboard add build/$$suite-$$agent.json --replace && \
@@ -86,6 +90,10 @@ leaderboard: $(STAMP)
 	  $(BIN)/objsearch-eval --agent $$agent --suite $$suite --batch 32 --quiet --out build/$$suite-$$agent.json && \
 	  $(BIN)/objsearch leaderboard add build/$$suite-$$agent.json --replace || exit 1; \
 	done; done
+	for suite in $(LEADERBOARD_SWEEP_SUITES); do for agent in $(LEADERBOARD_SWEEP_AGENTS); do \
+	  $(BIN)/objsearch-eval --agent $$agent --suite $$suite --batch 16 --quiet --out build/$$suite-$$agent.json || exit 1; \
+	done; done
+	$(BIN)/objsearch leaderboard add --replace $(foreach s,$(LEADERBOARD_SWEEP_SUITES),$(foreach a,$(LEADERBOARD_SWEEP_AGENTS),build/$(s)-$(a).json))
 	for agent in $(LEADERBOARD_GRID_AGENTS); do \
 	  $(BIN)/objsearch-eval --agent $$agent --suite gridworld --workers 2 --batch 64 --quiet --out build/gridworld-$$agent.json && \
 	  $(BIN)/objsearch leaderboard add build/gridworld-$$agent.json --replace || exit 1; \
