@@ -4,7 +4,9 @@ has entries, ``leaderboard/size_sweep.svg`` (``sweep``) from the stored submissi
 
 Partial submissions (``"partial": true``: fewer splits or seeds than the suite's standard)
 are never ranked: README.md lists them apart, after the ranked tables; index.html and
-paper_tables.md show the full submissions only."""
+paper_tables.md show the full submissions only. The labels of a row are ``labels``'s,
+paper_tables.md is ``paper_tables``'s, the project README's table ``headline``'s; every
+file is written here, together (``render``)."""
 
 from __future__ import annotations
 
@@ -15,33 +17,21 @@ from pathlib import Path
 
 from objsearch.errors import UserError
 from objsearch.fileio import atomic_write
+from objsearch.leaderboard.headline import headline_tables, project_readme, with_headline
+from objsearch.leaderboard.labels import (
+    nonstandard_settings,
+    observation_label,
+    replayed_label,
+    runs_label,
+    steps_label,
+    training,
+)
+from objsearch.leaderboard.labels import number_label as _num
 from objsearch.leaderboard.markdown import markdown_text
-from objsearch.leaderboard.paper import (
-    GREEDY_SUFFIX,
-    GRIDWORLD_SPLITS,
-    GRIDWORLD_TABLES,
-    HOUSE3D_SPLITS,
-    HOUSE3D_TABLE,
-    PAPER_NAMES,
-    PREDICTED_SUFFIX,
-    TRAINED_ON_PREDICTED_SUFFIX,
-    TRAINING_FREE,
-    paper_gridworld,
-    paper_house3d,
-    paper_rows,
-)
-from objsearch.leaderboard.relations import (
-    breakdown_rows,
-    gain_rows,
-    owed_rows,
-    relations_rows,
-    render_breakdown,
-    render_gains,
-    render_owed,
-    render_relations,
-)
-from objsearch.leaderboard.sweep import SVG_FILE, render_sweep, sweep_rows, sweep_svg
-from objsearch.leaderboard.table4 import ordering_cells, render_ordering, render_table4, table4_rows
+from objsearch.leaderboard.paper import paper_rows
+from objsearch.leaderboard.paper_tables import render_paper_tables
+from objsearch.leaderboard.relations import relations_rows
+from objsearch.leaderboard.sweep import SVG_FILE, sweep_rows, sweep_svg
 
 SUBMISSIONS = "submissions"
 
@@ -55,50 +45,6 @@ def _stored(root: str | Path) -> dict[Path, dict]:
 def stored_submissions(root: str | Path) -> list[tuple[str, dict]]:
     """(name, results) of every stored submission, sorted by suite then name."""
     return [(path.stem, results) for path, results in _stored(root).items()]
-
-
-def observation_label(results: dict) -> str:
-    """What the agent saw: ``gt`` (ground-truth segmentation and depth) or ``predicted <network key>``."""
-    key = results["config"].get("suite_config", {}).get("perception_key")
-    return f"predicted {key}" if key else "gt"
-
-
-def training(results: dict) -> tuple[int | None, int | None]:
-    """(training runs, mean training environment steps of a run) of a submission: (None, None)
-    for a shipped training-free agent (``TRAINING_FREE``), (1, None) for any other that
-    reports no runs."""
-    runs = results.get("training_runs")
-    if runs:
-        steps = [run["env_steps"] for run in runs]
-        return len(runs), None if None in steps else round(sum(steps) / len(steps))
-    learned = results["config"].get("weights_sha256") or results["agent"] not in TRAINING_FREE
-    return (1, None) if learned else (None, None)
-
-
-def runs_label(runs: int | None) -> str:
-    """``3``; ``1*`` for one training run (marked: its interval covers episodes, not training); ``–`` for none."""
-    return "–" if runs is None else f"{runs}*" if runs == 1 else str(runs)
-
-
-def steps_label(steps: int | None) -> str:
-    """``20M`` (environment steps, rounded); ``–`` when unknown."""
-    return "–" if steps is None else f"{steps / 1e6:.0f}M" if steps >= 1e6 else f"{steps / 1e3:.0f}k"
-
-
-def replayed_label(results: dict) -> str:
-    """``90/1500``: episodes that ``objsearch leaderboard verify`` replayed identical, of the
-    entry's, as recorded for its present content; ``–`` when none were."""
-    from objsearch.leaderboard.validate import replayed_of
-
-    replayed = replayed_of(results)
-    return "–" if replayed is None else f"{replayed[0]}/{replayed[1]}"
-
-
-def nonstandard_settings(results: dict) -> list[str]:
-    """The suite settings of ``results`` that are not its suite's standard (``validate.nonstandard_settings``)."""
-    from objsearch.leaderboard.validate import nonstandard_settings as differing
-
-    return differing(results)
 
 
 PRIVILEGED = "privileged"  # the rank cell of a privileged agent's row
@@ -154,10 +100,6 @@ def leaderboard_rows(submissions: list[tuple[str, dict]], partial: bool = False)
             for place, r in enumerate(rows, start=1):
                 r["rank"] = "–" if partial else PRIVILEGED if r["privileged"] else place
     return tables
-
-
-def _num(value) -> str:
-    return "–" if value is None else f"{value:.2f}"
 
 
 def _markdown_row(r: dict) -> str:
@@ -227,162 +169,6 @@ def render_markdown(tables: dict, partial: dict | None = None) -> str:
     return "\n".join(lines) + "\n"
 
 
-def render_paper_tables(submissions: list[tuple[str, dict]], relations: list[dict] = ()) -> str:
-    """The paper's Tables 1 and 2 laid out with our grid-world results beside its numbers, its
-    Table 3 beside our house suites and its Table 4 beside our single rooms (``table4``)."""
-    ours = {name: results for name, results in submissions if results["suite"] == "gridworld"}
-    lines = [
-        "# The paper's Tables 1 and 2 (grid world), 3 (House3D) and 4 (AI2-THOR), reproduced",
-        "",
-        "Generated by `objsearch leaderboard render` from `submissions/gridworld/`; do not edit by hand.",
-        "Each cell is **ours** (paper). Ours: the shipped checkpoints (`agents/checkpoints/gridworld/`) on our",
-        "20 unseen test maps and 3 x 100 test tasks, seeds 1, 5, 13, 45, 99, evaluated with epsilon 0.1 at both",
-        "levels as the authors evaluated; rows marked *greedy* are the same checkpoints with epsilon 0.",
-        "The paper's numbers (Ye et al., CVPR 2021) were measured on the authors' maps and tasks, not ours;",
-        "its grid-world protocol and what we changed are in `docs/gridworld_agents.md`.",
-    ]
-    header = (
-        "| Method | " + " | ".join(f"{split} SR | {split} SPL | {split} AS / MS" for split in GRIDWORLD_SPLITS) + " |"
-    )
-
-    def cells(s: dict | None, paper: tuple | None) -> list[str]:
-        ours = [None] * 3 if s is None else [_num(s["sr"]), _num(s["spl"]), f"{_num(s['as'])} / {_num(s['ms'])}"]
-        theirs = (
-            [None] * 3 if paper is None else [_num(paper[0]), _num(paper[3]), f"{_num(paper[1])} / {_num(paper[2])}"]
-        )
-        return [
-            ("not run" if o is None else f"**{o}**") + ("" if t is None else f" ({t})") for o, t in zip(ours, theirs)
-        ]
-
-    for title, names in GRIDWORLD_TABLES.items():
-        lines += ["", f"## {title}", "", header, "|---" * (1 + 3 * len(GRIDWORLD_SPLITS)) + "|"]
-        for name in names:
-            paper, splits = paper_gridworld(name), ours.get(name, {}).get("splits", {})
-            row = [c for split in GRIDWORLD_SPLITS for c in cells(splits.get(split), paper[split])]
-            lines.append(f"| {PAPER_NAMES[name]} | " + " | ".join(row) + " |")
-            if name + GREEDY_SUFFIX in ours:
-                greedy = ours[name + GREEDY_SUFFIX]["splits"]
-                row = [c for split in GRIDWORLD_SPLITS for c in cells(greedy.get(split), None)]
-                lines.append(f"| {PAPER_NAMES[name]} *greedy* | " + " | ".join(row) + " |")
-    table4 = render_table4(table4_rows(submissions, lambda results: runs_label(training(results)[0])))
-    if table4:
-        table4 += render_ordering(ordering_cells(submissions))
-    return (
-        "\n".join(
-            lines
-            + _table3(submissions)
-            + table4
-            + _beyond_the_paper(submissions)
-            + render_relations(relations)
-            + render_gains(gain_rows(submissions))
-            + render_owed(owed_rows(submissions))
-            + render_breakdown(breakdown_rows(submissions))
-            + render_sweep(sweep_rows(submissions))
-        )
-        + "\n"
-    )
-
-
-def _observation_rows(name: str, entries: set[str]) -> dict[str, str]:
-    """observation label -> entry name of a method's rows: gt and predicted always (random
-    only gt: it ignores what it sees), trained on predictions where ``entries`` has one."""
-    rows = {"gt": name} if name == "random" else {"gt": name, "predicted": name + PREDICTED_SUFFIX}
-    if name + TRAINED_ON_PREDICTED_SUFFIX in entries:
-        rows["predicted, trained on it"] = name + TRAINED_ON_PREDICTED_SUFFIX
-    return rows
-
-
-def _table3(submissions: list[tuple[str, dict]]) -> list[str]:
-    """The paper's Table 3 (House3D) beside our ``house-single`` and ``house-multi`` rows."""
-    ours = {(results["suite"], name): results for name, results in submissions}
-    keys = list(HOUSE3D_SPLITS)
-    lines = [
-        "",
-        "## Table 3: House3D, beside our house-single and house-multi",
-        "",
-        "Each cell is **ours** (paper), SR / SPL. Ours: the shipped checkpoints (`agents/checkpoints/<suite>/`) on the",
-        "suites' 100 episodes a split, seeds 1, 5, 13, 45, 99; *gt* rows saw ground-truth segmentation and depth,",
-        "*predicted* rows the shipped perception network's predictions (the checkpoints trained on ground truth),",
-        "*predicted, trained on it* rows checkpoints trained on the predictions too. The paper's agents saw its",
-        "DeepLabv3+'s predictions in House3D houses, in training and evaluation, not ours; protocol and",
-        "deviations: `docs/house_agents.md`.",
-        "",
-        "*runs*: training runs behind each row (`1*`: one run, `–`: no training); with several, the",
-        "cell is their mean and [the 95% interval of SR over runs and episodes] (`docs/evaluation.md`).",
-        "",
-        "| Method | observation | runs | " + " | ".join(f"{suite} {split}" for suite, split in keys) + " |",
-        "|---" * (3 + len(keys)) + "|",
-    ]
-    for name in HOUSE3D_TABLE:
-        paper = paper_house3d(name)
-        for seen, entry in _observation_rows(name, {entry for _, entry in ours}).items():
-            row, runs = [], set()
-            for suite, split in keys:
-                results = ours.get((suite, entry), {})
-                s = results.get("splits", {}).get(split)
-                mine = "not run" if s is None else _cell(s, results)
-                if results:
-                    runs.add(runs_label(training(results)[0]))
-                row.append(
-                    mine
-                    + (
-                        f" ({_num(paper[(suite, split)][0])} / {_num(paper[(suite, split)][1])})"
-                        if seen == "gt" and paper is not None
-                        else ""
-                    )
-                )
-            lines.append(
-                f"| {PAPER_NAMES[name]} | {seen} | {' / '.join(sorted(runs)) or '–'} | " + " | ".join(row) + " |"
-            )
-    return lines
-
-
-def _cell(s: dict, results: dict) -> str:
-    """A table cell of our SR / SPL, with the SR interval across runs for several runs."""
-    cell = f"**{_num(s['sr'])} / {_num(s['spl'])}**"
-    if len(results.get("training_runs", [])) > 1:
-        cell += f" [{_num(s['sr_ci'][0])}–{_num(s['sr_ci'][1])}]"
-    return cell
-
-
-# The suites beyond the paper that paper_tables.md shows, and what each one is.
-BEYOND_THE_PAPER = {
-    "house-gen": (
-        "SR / SPL of Table 3's methods trained on house-gen's 40 training houses and evaluated on its 10",
-        "validation and 10 test houses, generated as test houses (unseen object instances), seen and unseen",
-        "target categories; 100 episodes a split, seeds 1, 5, 13, 45, 99.",
-    ),
-    "house-gen-v2": (
-        "The same protocol on houses of the generator house-gen-2 (a public core that bedrooms and",
-        "bathrooms open onto, rooms of real sizes, an entrance): trained on house-gen-v2's 40 training houses,",
-        "evaluated on its 10 validation and 10 test houses; 100 episodes a split, seeds 1, 5, 13, 45, 99.",
-    ),
-}
-
-
-def _beyond_the_paper(submissions: list[tuple[str, dict]]) -> list[str]:
-    """Our rows on the ``BEYOND_THE_PAPER`` suites, which no paper has: Table 3's methods on
-    unseen houses with unseen object instances."""
-    lines = []
-    for suite, about in BEYOND_THE_PAPER.items():
-        ours = {name: results for name, results in submissions if results["suite"] == suite}
-        if not ours:
-            continue
-        splits = list(next(iter(ours.values()))["splits"])
-        lines += ["", f"## Beyond the paper: {suite}", "", *about, ""]
-        header = " | ".join(markdown_text(split) for split in splits)
-        lines += [f"| Method | observation | runs | {header} |", "|---" * (3 + len(splits)) + "|"]
-        for name in ("oracle",) + HOUSE3D_TABLE:
-            for seen, entry in _observation_rows(name, set(ours)).items():
-                if entry not in ours:
-                    continue
-                got = ours[entry]["splits"]
-                row = ["not run" if split not in got else _cell(got[split], ours[entry]) for split in splits]
-                runs = runs_label(training(ours[entry])[0])
-                lines.append(f"| {PAPER_NAMES[name]} | {seen} | {runs} | " + " | ".join(row) + " |")
-    return lines
-
-
 # The page around the data: HTML, CSS and JS in a file of its own, shipped with the package.
 # Its one placeholder is a bare word, not string.Template's $name or str.format's {name}: the
 # JS uses ${...} template literals and the CSS and JS braces throughout.
@@ -442,8 +228,6 @@ def render(root: str | Path, add: tuple[Path, dict] | None = None, store: dict[P
     Returns the paths written.
 
     Two writers at once would lose pages: callers hold the leaderboard's lock (the CLI does)."""
-    from objsearch.leaderboard.headline import headline_tables, project_readme, with_headline
-
     root = Path(root)
     entries, texts = _stored(root), {}
     for path, results in ([add] if add is not None else []) + list((store or {}).items()):
