@@ -53,6 +53,7 @@ class Table:
     methods: tuple[str, ...]
     observations: tuple[str, ...]
     baseline: tuple[str, ...] = ()
+    greedy: bool = False  # also each learned method played greedily (``<method>_greedy``), as the grid tables show
 
 
 def tables() -> dict[str, Table]:
@@ -63,8 +64,8 @@ def tables() -> dict[str, Table]:
     grid = list(GRIDWORLD_TABLES.values())
     house3d = tuple(dict.fromkeys(suite for suite, _ in HOUSE3D_SPLITS))
     return {
-        "table1": Table("## Table 1", ("gridworld",), grid[0], ("gt",)),
-        "table2": Table("## Table 2", ("gridworld",), grid[1], ("gt",)),
+        "table1": Table("## Table 1", ("gridworld",), grid[0], ("gt",), greedy=True),
+        "table2": Table("## Table 2", ("gridworld",), grid[1], ("gt",), greedy=True),
         "table3": Table("## Table 3", house3d, HOUSE3D_TABLE, ("gt", "predicted")),
         "table4": Table("## Table 4", (ROOMS_SUITE,), TABLE4_METHODS, ("gt", "predicted"), ("random",)),
     }
@@ -114,60 +115,32 @@ def add_parser(subparsers) -> None:
         description=__doc__,
         formatter_class=argparse.RawDescriptionHelpFormatter,
     )
-    p.add_argument("table", nargs="?", metavar="TABLE", help="table1, table2, table3 or table4 (or 1-4)")
-    p.add_argument("--suite", help="the suite (without TABLE), or one of TABLE's suites")
-    p.add_argument("--methods", type=names, help="comma-separated agents (without TABLE), or some of TABLE's")
-    p.add_argument("--observations", type=names, help="gt and/or predicted (default: the table's; gt without TABLE)")
-    p.add_argument("--runs", type=positive_int, help="training runs per learned method (default: 3; 1 on gridworld)")
-    p.add_argument(
-        "--out",
-        help="put everything in DIR: DIR/checkpoints, DIR/leaderboard, results and step records (default: the "
-        f"shipped agents/checkpoints and leaderboard/, work files in {WORK})",
-    )
-    p.add_argument(
-        "--leaderboard",
-        metavar="DIR",
-        help="the leaderboard to add to (default: ./leaderboard, DIR/leaderboard with --out)",
-    )
-    p.add_argument(
-        "--config",
-        choices=("paper", "tiny"),
-        default="paper",
-        help="tiny: a test-sized run (needs --out): 1 run, 2000 training steps (50 episodes on gridworld), gt only, "
-        "the first split and seed, 10-step episodes, 5 episodes verified; entries are partial (default: paper)",
-    )
-    p.add_argument(
-        "--train-budget",
-        type=positive_int,
-        metavar="N",
-        help="training steps (house) or episodes (gridworld) of every run",
-    )
-    p.add_argument(
-        "--train-set",
-        type=key_value,
-        action="append",
-        default=[],
-        metavar="KEY=VALUE",
-        help="a training config field for every run; repeatable",
-    )
-    p.add_argument("--splits", type=names, help="evaluate only these splits (entries are partial)")
-    p.add_argument("--seeds", type=seed_list, help="evaluation seeds (default: the suite's standard ones)")
-    p.add_argument("--max-steps", type=positive_int, help="episode step limit (default: the suite's; else partial)")
-    p.add_argument(
-        "--verify-episodes", type=positive_int, metavar="K", help="episodes replayed per entry (default: verify's)"
-    )
-    p.add_argument(
-        "--batch", type=positive_int, default=32, help="episodes per evaluation worker in lockstep (default: 32)"
-    )
-    p.add_argument(
-        "--dry-run", action="store_true", help="print the plan and its estimated time on this machine; run nothing"
-    )
-    p.add_argument(
-        "--executor", choices=EXECUTORS, default="local", help="ray: training runs and evaluations as Ray tasks"
-    )
-    p.add_argument("--address", metavar="ADDR", help="with --executor ray: the cluster (default: start a local one)")
-    p.add_argument("--workers", type=positive_int, help="evaluation processes here, or the CPUs of a local Ray cluster")
-    p.add_argument("--quiet", action="store_true", help="no progress bars")
+    # fmt: off
+    options = [
+        ("table", {"nargs": "?", "metavar": "TABLE", "help": "table1, table2, table3 or table4 (or 1-4)"}),
+        ("--suite", {"help": "the suite (without TABLE), or one of TABLE's suites"}),
+        ("--methods", {"type": names, "help": "comma-separated agents (without TABLE), or some of TABLE's"}),
+        ("--observations", {"type": names, "help": "gt and/or predicted (default: the table's; gt without TABLE)"}),
+        ("--runs", {"type": positive_int, "help": "training runs per learned method (default: 3; 1 on gridworld)"}),
+        ("--out", {"metavar": "DIR", "help": f"everything in DIR: DIR/checkpoints, DIR/leaderboard, results and step records (default: the shipped agents/checkpoints and leaderboard/, work files in {WORK})"}),
+        ("--leaderboard", {"metavar": "DIR", "help": "the leaderboard to add to (default: ./leaderboard, DIR/leaderboard with --out)"}),
+        ("--config", {"choices": ("paper", "tiny"), "default": "paper", "help": "tiny: a test-sized run (needs --out): 1 run of 2000 training steps (50 episodes on gridworld), gt only, the first split and seed, 10-step episodes, 5 episodes verified; its entries are partial (default: paper)"}),
+        ("--train-budget", {"type": positive_int, "metavar": "N", "help": "training steps (house) or episodes (gridworld) of every run (default: its recipe's)"}),
+        ("--train-set", {"type": key_value, "action": "append", "default": [], "metavar": "KEY=VALUE", "help": "a training config field for every run; repeatable"}),
+        ("--splits", {"type": names, "help": "evaluate only these splits (the entries are partial)"}),
+        ("--seeds", {"type": seed_list, "help": "evaluation seeds (default: the suite's standard ones; others: partial)"}),
+        ("--max-steps", {"type": positive_int, "help": "episode step limit (default: the suite's; another: partial)"}),
+        ("--verify-episodes", {"type": positive_int, "metavar": "K", "help": "episodes replayed per entry (default: verify's)"}),
+        ("--batch", {"type": positive_int, "default": 32, "help": "episodes per evaluation worker in lockstep (default: 32)"}),
+        ("--dry-run", {"action": "store_true", "help": "print the plan and its estimated time on this machine; run nothing"}),
+        ("--executor", {"choices": EXECUTORS, "default": "local", "help": "ray: the training runs and evaluations as Ray tasks"}),
+        ("--address", {"metavar": "ADDR", "help": "with --executor ray: the cluster (default: start a local one)"}),
+        ("--workers", {"type": positive_int, "help": "evaluation processes here, or the CPUs of a local Ray cluster"}),
+        ("--quiet", {"action": "store_true", "help": "no progress bars"}),
+    ]
+    # fmt: on
+    for flag, options_of in options:
+        p.add_argument(flag, **options_of)
     p.set_defaults(func=run)
 
 
@@ -268,13 +241,9 @@ def make_plan(args: argparse.Namespace) -> Plan:
         train = _Trainer(plan, world, budget, list(args.train_set), tiny)
         evals = []
         for method in table.methods:
-            base = method[: -len("_greedy")] if method.endswith("_greedy") and method[:-7] in agents else method
+            base = method.removesuffix("_greedy") if method.removesuffix("_greedy") in agents else method
             needs = [train.need(suite, base, k) for k in range(runs)] if _trainable(base) else []
-            greedy = (
-                [f"{method}_greedy"]
-                if table.heading in ("## Table 1", "## Table 2") and f"{method}_greedy" in agents and needs
-                else []
-            )
+            greedy = [f"{method}_greedy"] if table.greedy and f"{method}_greedy" in agents and needs else []
             for name in [method, *greedy]:
                 for observation in ("gt",) if name in GT_ONLY or is_privileged(name) else observations:
                     evals.append(_entry_steps(plan, args, suite, name, observation, needs, base, tiny))
@@ -318,10 +287,8 @@ class _Trainer:
         needs, overrides = [], {}
         for key, value in recipe.overrides:
             ref = next((m for m in (p.fullmatch(value) for p in RUN_FILE) if m), None)
-            if ref and key in (
-                "pretrained",
-                "explorer",
-            ):  # another run's file: that run (of this seed, if seed 0's recipe)
+            # another run's file: that run (of this run's seed, if the recipe is seed 0's)
+            if ref and key in ("pretrained", "explorer"):
                 of = int(ref["seed"] or 0)
                 of = seed if of == recipe.seed else of
                 needs.append(self.need(ref["suite"], ref["agent"], of))

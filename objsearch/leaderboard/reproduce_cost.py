@@ -31,6 +31,8 @@ EVAL_STEPS_PER_S = {
     "house": {"random": 15300, "oracle": 1550, "frontier": 420, "a3c": 3100, "hrl_grg": 3340, "scene_priors": 520},
     "gridworld": {"random": 136500, "dqn": 18700, "hrl_grg": 9790},
 }
+# seconds of add and verify beside the episodes verify replays: rooms' random entry (20,000 episodes), same day
+ADD_S, VERIFY_S = 8, 5
 # an agent not measured counts as the nearest measured one: a learned one as hrl_grg (the
 # slowest of the methods sharing its networks), a training-free house agent as frontier
 UNMEASURED = {"house": ("hrl_grg", "frontier"), "gridworld": ("hrl_grg", "random")}
@@ -171,26 +173,23 @@ def print_plan(plan: Plan) -> None:
     from objsearch.leaderboard.validate import sample_size
 
     totals, runs, evals = {}, [0, 0], {}
-    print(
-        f"objsearch reproduce {plan.title}: the plan (checkpoints {plan.checkpoints}, leaderboard {plan.leaderboard})"
-    )
+    print(f"objsearch reproduce {plan.title}: checkpoints {plan.checkpoints}, leaderboard {plan.leaderboard}")
     for step in plan.steps:
         done = is_done(plan, step)
-        seconds, source = None, "a few seconds"
+        seconds, source = (
+            (ADD_S, "checks it and the stored entries (measured)") if step.kind == "add" else (None, "seconds")
+        )
         if step.kind == "train":
             runs[done] += 1
-            seconds, source = (None, "") if done else train_estimate(plan, step)
-            source = source or f"{_shown(plan, Path(step.args['out']))}"
+            seconds, source = (None, _shown(plan, Path(step.args["out"]))) if done else train_estimate(plan, step)
         elif step.kind == "eval":
             seconds, episodes, source = eval_estimate(plan, step)
             evals[step.name] = (seconds, episodes)
         elif step.kind == "verify" and step.name in evals:
             spent, episodes = evals[step.name]
             replayed = min(episodes, step.args["episodes"] or sample_size(round(episodes)))
-            seconds, source = (
-                spent * replayed / max(1, episodes),
-                f"replays {replayed:,.0f} of {episodes:,.0f} episodes",
-            )
+            seconds = VERIFY_S + spent * replayed / max(1, episodes)
+            source = f"replays {replayed:,.0f} of {episodes:,.0f} episodes (their share of the evaluation, + start-up)"
         record = plan.record(step)
         if done:
             took = json.loads(record.read_text())["wall_s"] if record.is_file() else None
@@ -200,12 +199,14 @@ def print_plan(plan: Plan) -> None:
             totals[step.kind] = totals.get(step.kind, 0) + (seconds or 0)
         print(f"  {shown:>14}  {step.id:<48} {source}")
     total = sum(totals.values())
-    parts = ", ".join(f"{kind} {totals[kind] / 3600:.1f} h" for kind in ("train", "eval", "verify") if kind in totals)
+    parts = ", ".join(
+        f"{kind} {totals[kind] / 3600:.1f} h" for kind in ("train", "eval", "add", "verify") if kind in totals
+    )
     print(f"training runs: {runs[1]} done, {runs[0]} to train")
     print(
-        f"estimated time to run: {total / 3600:.1f} hours on one core of this machine ({parts}); cache builds not counted"
+        f"estimated time to run: {total / 3600:.1f} hours ({_duration(total)}) on one core ({parts}); cache builds not counted"
     )
     print(
         "estimates: training from the shipped runs' own log.csv (wall_s), evaluation from env steps/s measured on "
-        "the project's 2-core CPU machine (docs/scaling.md); with --executor ray the runs share a cluster's cores"
+        "the project's 2-core CPU machine (docs/scaling.md); --executor ray spreads the runs over a cluster's cores"
     )

@@ -117,9 +117,7 @@ def _say(line: str) -> None:
 def run_step(kind: str, args: dict, progress: bool = True, workers: int = 1) -> float:
     """Run one step in this process (``workers``: evaluation processes); its wall seconds."""
     start = time.monotonic()
-    {"train": _train, "eval": _evaluate, "add": _add, "verify": _verify, "render": _render}[kind](
-        args, progress, workers
-    )
+    {"train": _train, "eval": _eval, "add": _add, "verify": _verify, "render": _render}[kind](args, progress, workers)
     return time.monotonic() - start
 
 
@@ -144,7 +142,7 @@ def _train(a: dict, progress: bool, workers: int) -> None:
         raise (Terminated if status == 143 else KeyboardInterrupt)(saved)
 
 
-def _evaluate(a: dict, progress: bool, workers: int) -> None:
+def _eval(a: dict, progress: bool, workers: int) -> None:
     """``objsearch-eval --out RESULTS``: it resumes its episodes, and plays again those of a
     finished run that ended in an error (``--retry-failed``)."""
     from objsearch.eval.config import EvalConfig
@@ -172,7 +170,7 @@ def _add(a: dict, progress: bool, workers: int) -> None:
     partial = bool(check_submission(results)) and not check_submission({**results, "partial": True})
     run_add(
         argparse.Namespace(
-            dir=a["leaderboard"], file=a["results"], name=a["entry"], replace=True, partial=partial, create=True
+            dir=a["leaderboard"], files=[a["results"]], name=a["entry"], replace=True, partial=partial, create=True
         )
     )
 
@@ -199,15 +197,12 @@ def _render(a: dict, progress: bool, workers: int) -> None:
     entries = stored_submissions(a["leaderboard"])
     lines = render_paper_tables(entries).splitlines()
     start = next((i for i, line in enumerate(lines) if line.startswith(a["heading"])), None)
-    if start is None:
-        raise UserError(f"{a['leaderboard']} holds no entry of {a['heading'][3:]}: nothing to render")
+    if start is None:  # e.g. Table 4 with random's entry alone: every row is read against it
+        print(f"{a['heading'][3:]} has no row yet: {a['leaderboard']} holds none of its methods' entries")
+        return
     end = next((i for i in range(start + 1, len(lines)) if lines[i].startswith("## ")), len(lines))
     partial = sorted(f"{r['suite']}/{name}" for name, r in entries if r.get("partial"))
-    note = [
-        f"From the entries of {a['leaderboard']}"
-        + (f"; partial (some splits, seeds or settings): {', '.join(partial)}" if partial else "")
-        + ".",
-        "",
-    ]
+    partial = f"; partial (some splits, seeds or settings): {', '.join(partial)}" if partial else ""
+    note = f"From the entries of {a['leaderboard']}{partial}."
     with atomic_write(a["table"]) as f:
-        f.write("\n".join([lines[start], "", *note, *lines[start + 1 : end]]).rstrip() + "\n")
+        f.write("\n".join([lines[start], "", note, *lines[start + 1 : end]]).rstrip() + "\n")
