@@ -59,6 +59,22 @@ def test_the_table_shows_gt_reference_entries_and_marks_multi_run_ones():
     assert "±0.05 to ±0.05 SR" in table
 
 
+def test_the_large_tier_shows_predictions_beside_ground_truth_once_it_has_them():
+    gt_only = [("frontier", entry("house-large", "frontier", {"test": (0.70, 0.21)}))]
+    assert "*predicted*" not in headline_tables(gt_only)
+    both = gt_only + [
+        ("frontier_predicted", entry("house-large", "frontier", {"test": (0.10, 0.03)}, perception_key="abc")),
+        ("object_prior_frontier", entry("house-large", "object_prior_frontier", {"test": (0.94, 0.30)})),
+        ("mine_predicted", entry("house-large", "mine", {"test": (0.5, 0.5)}, perception_key="abc")),  # not headline
+    ]
+    table = headline_tables(both)
+    header = next(line for line in table.splitlines() if line.startswith("| agent |"))
+    assert header.count("<br>*predicted*") == 3 and header.index("house-large<br>test |") < header.index("*predicted*")
+    assert "| `frontier` | 0.70 / 0.21 | 0.10 / 0.03 | – | – | – | – |" in table
+    assert "| `object_prior_frontier` | 0.94 / 0.30 | – |" in table and "mine" not in table
+    assert "columns marked *predicted*: the shipped perception network's" in table
+
+
 def test_render_rewrites_only_the_text_between_the_markers(tmp_path, oracle_results):
     board = tmp_path / "leaderboard"
     (board / "submissions" / "gridworld").mkdir(parents=True)
