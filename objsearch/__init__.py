@@ -2,7 +2,7 @@
 
 Importing the package registers its Gymnasium environments (``objsearch.envs``:
 ``ObjSearch/GridWorld-v0``, ``ObjSearch/House-v1``, ``ObjSearch/Suite-v1``, which plays a
-suite's fixed episodes); the environments themselves are imported lazily through string entry
+suite's fixed episodes, and ``ObjSearch/<suite>-v1`` for every shipped suite); the environments themselves are imported lazily through string entry
 points. It imports no MuJoCo and leaves ``MUJOCO_GL`` as it is (``objsearch.mujoco_gl``). The
 Python API (``objsearch.api``): ``evaluate(agent, suite, seeds=..., split=...)``, ``make_suite``
 and ``register_suite``, imported on first use.
