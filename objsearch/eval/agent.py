@@ -46,6 +46,8 @@ from typing import Any, Protocol, runtime_checkable
 import gymnasium
 import numpy as np
 
+from objsearch.errors import UserError
+
 
 @dataclass
 class AgentTask:
@@ -104,6 +106,23 @@ class TrainingRun:
     checkpoint: str
     env_steps: int | None = None
     wall_s: float | None = None
+
+
+def build_agent(cls: type, spec: str, checkpoint: str | None = None, suite: str | None = None):
+    """An agent of class ``cls`` (named ``spec`` in messages) as the harness builds one: the
+    class's ``for_suite(suite, checkpoint)`` where it has one and a suite is given, else
+    ``cls()`` with ``load(checkpoint)`` if a checkpoint is given. The class is not checked
+    against the suite here (``objsearch.eval.registry.check_supports`` does that first)."""
+    if suite is not None:
+        factory = getattr(cls, "for_suite", None)
+        if callable(factory):
+            return factory(suite, checkpoint)
+    agent = cls()
+    if checkpoint is not None:
+        if not callable(getattr(agent, "load", None)):
+            raise UserError(f"agent {spec!r} takes no checkpoint (it has no load(path) method)")
+        agent.load(checkpoint)
+    return agent
 
 
 @runtime_checkable

@@ -210,15 +210,9 @@ def make_agent(spec: str, checkpoint: str | None = None, suite: str | None = Non
     ``protocols()`` (the protocols it plays: ``paper``, ``objectnav``), both checked first,
     and ``for_suite(suite, checkpoint)`` (builds the agent for that suite, e.g. loading the
     checkpoint shipped for it); otherwise it is built with ``cls()`` and ``load(checkpoint)``."""
+    from objsearch.eval.agent import build_agent
+
     cls = resolve_agent(spec, folder)
     if suite is not None:
         check_supports(spec, cls, suite)
-        factory = getattr(cls, "for_suite", None)
-        if callable(factory):
-            return factory(suite, checkpoint)
-    agent = cls()
-    if checkpoint is not None:
-        if not callable(getattr(agent, "load", None)):
-            raise UserError(f"agent {spec!r} takes no checkpoint (it has no load(path) method)")
-        agent.load(checkpoint)
-    return agent
+    return build_agent(cls, spec, checkpoint, suite)

@@ -8,17 +8,17 @@ returns an invalid action or exceeds the per-step time limit fails that episode 
 keeps the error) and the run goes on. With a partial-results file, finished units are
 appended as they complete, and a rerun with the same configuration skips them.
 
-The parts: ``config`` (``EvalConfig``), ``episode`` (one episode, its Generator and time
+The parts: ``config`` (``EvalConfig``), ``plan`` (the config resolved once: the suite, each
+play's agent and training run, the units), ``episode`` (one episode, its Generator and time
 limit), ``lockstep`` (N episodes at once), ``worker`` (one process's agent, suite and envs),
 ``executors`` (local processes or Ray), ``partial`` (the partial-results file); this module
-plans the units and runs them.
+resolves an evaluation's plan, then plays it.
 """
 
 from __future__ import annotations
 
 import os
 import sys
-from dataclasses import replace
 from pathlib import Path
 from typing import Iterable
 
@@ -27,9 +27,14 @@ from objsearch.errors import UserError
 from objsearch.eval.config import EvalConfig, Unit
 from objsearch.eval.executors import run_local, run_ray
 from objsearch.eval.partial import PartialResults, keep_what_did_not_fail
-from objsearch.eval.runs import agent_of, run_config, training_runs
-from objsearch.eval.suites import check_splits, make_suite
+from objsearch.eval.plan import EvalPlan, resolve, resolve_play
 from objsearch.progress import progress_bar
+
+
+def check_executor(executor: str) -> None:
+    """Refuse an executor other than ``objsearch.cluster.EXECUTORS``."""
+    if executor not in EXECUTORS:
+        raise UserError(f"unknown executor {executor!r}; choose one of {', '.join(EXECUTORS)}")
 
 
 def run_units(
@@ -47,17 +52,37 @@ def run_units(
     agent=None,
     bar=None,
 ) -> list[dict]:
-    """Run (split, seed, episode_id) units and return their records in the units' order.
-
-    Units already in ``partial`` are not run again; new records are appended to it. With
-    ``batch`` > 1 each worker plays that many episodes in lockstep. ``folder``: where the
+    """Play ``config`` as it is (its checkpoint, or the training run it names) over the
+    (split, seed, episode_id) ``units`` and return their records in the units' order: a
+    replay of recorded episodes (``objsearch leaderboard verify``). ``folder``: where the
     agent's module or file is also looked for (default: the current folder). With
     ``video_dir``, the units of ``video_units`` (None: every unit) get pictures there.
     ``agent``: an agent object to play in this process instead of building ``config.agent``.
-    ``bar``: a progress bar that already counts these units (``evaluate``'s over every
-    training run) to advance, left open; None: one of their own."""
-    if executor not in EXECUTORS:
-        raise UserError(f"unknown executor {executor!r}; choose one of {', '.join(EXECUTORS)}")
+    The rest as ``play_units``."""
+    check_executor(executor)
+    plan = resolve_play(config, units, folder, agent, video_dir, video_units)
+    return play_units(plan, 0, workers, executor, address, partial, progress, batch, bar)
+
+
+def play_units(
+    plan: EvalPlan,
+    play: int = 0,
+    workers: int = 1,
+    executor: str = "local",
+    address: str | None = None,
+    partial: PartialResults | None = None,
+    progress: bool = True,
+    batch: int = 1,
+    bar=None,
+) -> list[dict]:
+    """Play ``plan.plays[play]`` over the plan's units and return their records in the units' order.
+
+    Units already in ``partial`` are not run again; new records are appended to it. With
+    ``batch`` > 1 each worker plays that many episodes in lockstep. ``bar``: a progress bar
+    that already counts these units (``evaluate``'s over every training run) to advance, left
+    open; None: one of their own."""
+    check_executor(executor)
+    units, config = list(plan.units), plan.plays[play].config
     finished = {(r["split"], r["seed"], r["episode_id"]): r for r in (partial.records if partial else [])}
     todo = [u for u in units if u not in finished]
     if partial and len(todo) < len(units):
@@ -77,13 +102,11 @@ def run_units(
     # a 2-episode suite builds 2 envs, not 100000 (records are the same for any batch and workers)
     workers = max(1, min(workers, len(todo)))
     batch = max(1, min(batch, -(-len(todo) // workers)))
-    folder = os.path.abspath(folder or os.getcwd())
-    video_units = None if video_units is None else frozenset(video_units)
     try:
         if todo and executor == "ray":
-            run_ray(config, todo, workers, address, video_dir, done, batch, folder, video_units)
+            run_ray(plan, play, todo, workers, address, done, batch)
         elif todo:
-            run_local(config, todo, workers, video_dir, done, batch, folder, video_units, agent)
+            run_local(plan, play, todo, workers, done, batch)
     except KeyboardInterrupt as err:  # Ctrl-C or SIGTERM: say what is kept (the CLI prints it)
         kept = sum(u in finished for u in units)
         if partial:
@@ -95,37 +118,6 @@ def run_units(
         if own_bar:
             bar.close()
     return [finished[u] for u in units]
-
-
-def plan_units(suite, splits: list[str], seeds: tuple[int, ...], episodes: int | None = None) -> list[Unit]:
-    """Every (split, seed, episode_id), in report order; with ``episodes``, only the first
-    that many episodes of each split (``--episodes``)."""
-    return [
-        (split, seed, ep.episode_id) for split in splits for seed in seeds for ep in suite.episodes(split)[:episodes]
-    ]
-
-
-def video_units_of(suite, splits: list[str], seeds: tuple[int, ...], episodes: int) -> list[Unit]:
-    """The units that get a video: the first ``episodes`` episodes (by id) of each split,
-    with the first seed."""
-    return [
-        (split, seeds[0], ep.episode_id)
-        for split in splits
-        for ep in sorted(suite.episodes(split), key=lambda ep: ep.episode_id)[:episodes]
-    ]
-
-
-def check_perception(agent, suite) -> None:
-    """Refuse an agent trained on one perception network's predictions (its
-    ``trained_perception_key``) evaluated on another's: its numbers would measure neither."""
-    trained = getattr(agent, "trained_perception_key", None)
-    predictor = getattr(suite, "predictor", None)
-    if trained and predictor is not None and predictor.key != trained:
-        raise UserError(
-            f"the agent's checkpoint {getattr(agent, 'loaded_from', '')} was trained on the predictions of "
-            f"perception network {trained}, not those of {predictor.key} ({suite.perception}); pass --perception "
-            "with the network it was trained on, or evaluate a checkpoint trained on this one"
-        )
 
 
 def evaluate(
@@ -174,75 +166,42 @@ def evaluate(
             f"agent object {config.agent!r} plays in this process only: pass workers=1 and the local executor, "
             "or pass the agent's registered name or 'package.module:Class' to play it in several processes"
         )
-    suite = make_suite(config.suite, **config.suite_config)
-    splits = check_splits(suite, list(config.splits))
-    if video_dir and not hasattr(suite, "write_video"):
-        raise UserError(f"--video is not available for suite {config.suite!r} (house suites have it)")
-    folder = os.getcwd()
-    # replace, not a new EvalConfig: every other field (and any field added later) is kept
-    config = replace(config, splits=tuple(splits), suite_config=suite.config())
-    runs = training_runs(config, folder) if agent is None else []
-    several = len(runs) > 1
-    plays = [run_config(config, run) for run in runs] if several else [config]
-    loaded = []  # the checkpoint each play loads, as chosen (by the agent, or its training run) or given
-    for i, play in enumerate(plays):  # fail fast, before any worker starts
-        built = agent if agent is not None else agent_of(play, folder)
-        check_perception(built, suite)
-        plays[i] = replace(play, weights_sha256=getattr(built, "weights_sha256", None))
-        listed = runs[i].checkpoint if len(runs) == len(plays) else None
-        loaded.append(None if agent is not None else getattr(built, "loaded_from", None) or listed or play.checkpoint)
-        if loaded[i] is not None and config.checkpoint is None:  # chosen for the user: say which
-            run = f" (training run {runs[i].seed}, {i + 1} of {len(plays)})" if several else ""
-            print(f"{config.agent} on {config.suite}: checkpoint {loaded[i]}{run}", file=sys.stderr)
-        del built
-    partial_paths = [
-        f"{out}.run{play.training_run}.partial.jsonl" if several else f"{out}.partial.jsonl" for play in plays
-    ]
+    plan = resolve(config, os.getcwd(), agent, out, video_dir, video_episodes)  # once: the executors only play it
+    check_executor(executor)
+    config = plan.config
+    for i, play in enumerate(plan.plays):
+        if play.loaded is not None and config.checkpoint is None:  # chosen for the user: say which
+            run = f" (training run {play.run.seed}, {i + 1} of {len(plan.plays)})" if plan.several else ""
+            print(f"{config.agent} on {config.suite}: checkpoint {play.loaded}{run}", file=sys.stderr)
     if retry_failed:
-        failed = keep_what_did_not_fail(out, config if several else plays[0], plays, partial_paths)
+        configs, paths = [play.config for play in plan.plays], [play.partial for play in plan.plays]
+        failed = keep_what_did_not_fail(out, plan.recorded, configs, paths)
         if failed >= 0:
             print(f"--retry-failed: playing the {failed} failed episode(s) of {out} again", file=sys.stderr)
-    units = plan_units(suite, splits, config.seeds, config.episodes)
-    prepare = getattr(suite, "prepare", None)
+    prepare = getattr(plan.suite, "prepare", None)
     if callable(prepare) and executor == "local":  # e.g. missing caches: a stage of its own, not in the ETA
-        prepare(units, workers=workers, progress=progress)
+        prepare(list(plan.units), workers=workers, progress=progress)
     records, partials, bar = [], [], None
-    label = lambda i: f"{config.agent} on {config.suite}, run {i + 1}/{len(plays)}"  # noqa: E731
+    label = lambda i: f"{config.agent} on {config.suite}, run {i + 1}/{len(plan.plays)}"  # noqa: E731
     try:
-        partials = [PartialResults(path, play) if out else None for path, play in zip(partial_paths, plays)]
-        if several:  # one bar over every run: its ETA is the whole evaluation's, its label says which run plays
-            done = sum(len(set(units) & p.done_units()) for p in partials if p)
-            bar = progress_bar(len(units) * len(plays), label(0), "ep", progress, done)
-        for i, (play, partial) in enumerate(zip(plays, partials)):
+        partials = [PartialResults(play.partial, play.config) if out else None for play in plan.plays]
+        if plan.several:  # one bar over every run: its ETA is the whole evaluation's, its label says which run plays
+            done = sum(len(set(plan.units) & p.done_units()) for p in partials if p)
+            bar = progress_bar(len(plan.units) * len(plan.plays), label(0), "ep", progress, done)
+        for i, (play, partial) in enumerate(zip(plan.plays, partials)):
             if bar is not None and i:
                 bar.set_description_str(label(i))  # a line in a log: this run starts
-            videos = video_dir if i == 0 else None  # one run's pictures: the first's
-            video_units = video_units_of(suite, splits, config.seeds, video_episodes) if videos else None
-            played = run_units(
-                play,
-                units,
-                workers,
-                executor,
-                address,
-                partial,
-                progress,
-                videos,
-                batch,
-                folder,
-                video_units,
-                agent,
-                bar,
-            )
-            records += [{**r, "training_run": play.training_run} for r in played] if several else played
+            played = play_units(plan, i, workers, executor, address, partial, progress, batch, bar)
+            records += [{**r, "training_run": play.config.training_run} for r in played] if plan.several else played
     finally:
         if bar is not None:
             bar.close()
         for partial in partials:
             if partial:
                 partial.close()
-    results = build_results(config if several else plays[0], suite, records, list(zip(runs, plays)), loaded)
+    results = build_results(plan.recorded, plan.suite, records, plan.runs, plan.loaded)
     if out:
         write_json(out, results, elsewhere="choose another --out")
-        for path in partial_paths:
-            Path(path).unlink(missing_ok=True)
+        for play in plan.plays:
+            Path(play.partial).unlink(missing_ok=True)
     return results

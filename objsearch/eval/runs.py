@@ -6,7 +6,8 @@ seeds (``training_runs(suite) -> list[TrainingRun]``, ``objsearch.eval.agent``).
 ``--checkpoint``, an evaluation plays every run on the same episodes, tags each record
 with its run's seed (``training_run``) and reports across runs, with intervals from a
 bootstrap over runs and episodes (``objsearch.eval.metrics.bootstrap_ci``);
-``--training-run SEED`` plays one.
+``--training-run SEED`` plays one. An evaluation lists them once, when it is resolved
+(``objsearch.eval.plan``).
 """
 
 from __future__ import annotations
@@ -22,15 +23,27 @@ from objsearch.eval.registry import check_supports, make_agent, resolve_agent
 def training_runs(config: EvalConfig, folder: str | None = None) -> list[TrainingRun]:
     """The runs ``config`` evaluates: every run the agent lists for the suite, or the one
     ``config.training_run`` names; none for an explicit checkpoint or an agent that lists none."""
+    check_run_choice(config)
     if config.checkpoint is not None:
-        if config.training_run is not None:
-            raise UserError(
-                "--training-run picks one of an agent's shipped training runs; with --checkpoint there is "
-                "only that one: drop one of the two"
-            )
         return []
     cls = resolve_agent(config.agent, folder)
     check_supports(config.agent, cls, config.suite)  # a suite of another world has no runs to ask for
+    return listed_runs(config, cls)
+
+
+def check_run_choice(config: EvalConfig) -> None:
+    """Refuse a config that names both a checkpoint and a training run."""
+    if config.checkpoint is not None and config.training_run is not None:
+        raise UserError(
+            "--training-run picks one of an agent's shipped training runs; with --checkpoint there is "
+            "only that one: drop one of the two"
+        )
+
+
+def listed_runs(config: EvalConfig, cls: type) -> list[TrainingRun]:
+    """The runs of agent class ``cls`` (resolved, and checked for the suite) that ``config``
+    (with no checkpoint) evaluates: every run the class lists for the suite, or the one
+    ``config.training_run`` names."""
     listed = getattr(cls, "training_runs", None)
     runs = list(listed(config.suite)) if callable(listed) else []
     if config.training_run is None:
@@ -52,7 +65,9 @@ def run_config(config: EvalConfig, run: TrainingRun) -> EvalConfig:
 
 
 def agent_of(config: EvalConfig, folder: str | None = None):
-    """The agent ``config`` plays: its checkpoint's, or its training run's (``make_agent``)."""
+    """The agent ``config`` plays: its checkpoint's, or its training run's (``make_agent``); for a
+    caller that holds one config (``objsearch leaderboard verify``). An evaluation resolves its
+    agents once, in ``objsearch.eval.plan.resolve``."""
     checkpoint = config.checkpoint
     if config.training_run is not None:
         checkpoint = training_runs(config, folder)[0].checkpoint

@@ -32,7 +32,7 @@ class SuiteEnv(gymnasium.Env):
     The env of the suite (``make_suite(suite, **config).make_env()``: ``ObjSearch/House-v1``'s
     for a house suite, ``ObjSearch/GridWorld-v0``'s for ``gridworld``) reset to the suite's
     episodes in the harness's order: for each split (in report order), for each seed, every
-    episode in the split's order (``objsearch.eval.runner.plan_units``). Each episode starts as
+    episode in the split's order (``objsearch.eval.plan.plan_units``). Each episode starts as
     the harness starts it (``env.reset(seed=<evaluation seed>, options={"task": ...})``), so an
     agent stepping this env sees what ``objsearch-eval --suite SUITE --split SPLIT --seeds ...``
     shows it, and ends with the same records (``tests/eval/test_suite_env.py``).
@@ -79,7 +79,7 @@ class SuiteEnv(gymnasium.Env):
         **config,
     ):
         from objsearch.eval.config import check_seeds
-        from objsearch.eval.runner import plan_units
+        from objsearch.eval.plan import plan_units
         from objsearch.eval.suites import check_splits, make_suite, standard_seeds
 
         if not isinstance(suite, str) or not suite:

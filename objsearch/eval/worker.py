@@ -1,55 +1,46 @@
-"""One process's share of an evaluation: an agent, a suite and its envs, built once, then
-fed (split, seed, episode_id) units; each is played alone (``objsearch.eval.episode``) or
-``batch`` at a time in lockstep (``objsearch.eval.lockstep``)."""
+"""One process's share of an evaluation: one play of an ``EvalPlan`` (``objsearch.eval.plan``),
+its suite's envs and its agent, built once, then fed (split, seed, episode_id) units; each is
+played alone (``objsearch.eval.episode``) or ``batch`` at a time in lockstep
+(``objsearch.eval.lockstep``). Nothing is looked up here: the plan says what to play."""
 
 from __future__ import annotations
 
 import copy
-from typing import Iterable
 
-from objsearch.eval.config import EvalConfig, Unit
+from objsearch.eval.config import Unit
 from objsearch.eval.episode import run_episode
 from objsearch.eval.lockstep import EnvSlots, play_lockstep
-from objsearch.eval.runs import agent_of
-from objsearch.eval.suites import Episode, make_suite, register_suite
+from objsearch.eval.plan import EvalPlan
 
 
 class Worker:
-    """An agent, a suite and its env: built once per process (or Ray actor), then fed units.
+    """The suite's env and one play's agent of ``plan``: built once per process (or Ray
+    actor), then fed units.
 
-    ``folder``: the folder the evaluation started in, where a ``module:Class`` or relative
-    ``file.py:Class`` agent is also looked for (default: the current folder). With
-    ``video_dir``, the pictures of each unit in ``video_units`` (None: every unit) are
-    written there by the suite's ``write_video(directory, record, episode, trajectory)``;
-    those units are played one by one, first. With ``batch`` > 1, the others are played ``batch`` at a time in
-    lockstep (``objsearch.eval.lockstep``): in the suite's own slots if it has them
-    (``make_slots``), else one env per slot. ``agent``: an agent object to play instead of
-    building ``config.agent`` (``objsearch.evaluate``); an unbatched one is copied for each
-    lockstep slot past the first. ``suites``: the suites ``register_suite`` added in the
-    process that started the evaluation (a worker process registers them again)."""
+    ``play``: the index of the play in ``plan.plays``. The suite is the plan's own in the
+    process that resolved it, else rebuilt from the plan's config (``EvalPlan.open_suite``);
+    the agent is the plan's agent object if it was given one, else the play's
+    (``Play.agent``). With the play's ``video_dir``, the pictures of each unit in
+    ``plan.video_units`` (None: every unit) are written there by the suite's
+    ``write_video(directory, record, episode, trajectory)``; those units are played one by
+    one, first. With ``batch`` > 1, the others are played ``batch`` at a time in lockstep
+    (``objsearch.eval.lockstep``): in the suite's own slots if it has them (``make_slots``),
+    else one env per slot; an agent object without the batched protocol is copied for each
+    slot past the first, a built one built again."""
 
-    def __init__(
-        self,
-        config: EvalConfig,
-        video_dir: str | None = None,
-        batch: int = 1,
-        folder: str | None = None,
-        video_units: Iterable[Unit] | None = None,
-        agent=None,
-        suites: dict[str, str] | None = None,
-    ):
-        for name, target in (suites or {}).items():
-            register_suite(name, target)
-        self.config, self.video_dir, self.batch, self.folder = config, video_dir, int(batch), folder
-        self.video_units = None if video_units is None else frozenset(map(tuple, video_units))
-        self.suite = make_suite(config.suite, **config.suite_config)
+    def __init__(self, plan: EvalPlan, play: int = 0, batch: int = 1):
+        chosen = plan.plays[play]
+        self.batch, self.make_agent = int(batch), chosen.agent
+        self.video_dir, self.video_units = chosen.video_dir, plan.video_units
+        self.step_time_limit = chosen.config.step_time_limit
+        self.suite = plan.open_suite()
         self.env = self.suite.make_env()
-        self.given = agent is not None
-        self.agent = agent if self.given else agent_of(config, folder)
-        self.episodes: dict[str, list[Episode]] = {}
+        self.given = plan.agent is not None
+        self.agent = plan.agent if self.given else self.make_agent()
+        self.episodes: dict = {}
         self._slots = None
 
-    def episode(self, split: str, episode_id: int) -> Episode:
+    def episode(self, split: str, episode_id: int):
         """The suite's episode ``episode_id`` of ``split`` (each split's list is read once)."""
         if split not in self.episodes:
             self.episodes[split] = self.suite.episodes(split)
@@ -61,7 +52,7 @@ class Worker:
         video = self.wants_video((split, seed, episode_id))
         trajectory = [] if video else None
         record = run_episode(
-            self.agent, self.env, self.suite.name, split, episode, seed, self.config.step_time_limit, trajectory
+            self.agent, self.env, self.suite.name, split, episode, seed, self.step_time_limit, trajectory
         )
         if video:
             self.suite.write_video(self.video_dir, record, episode, trajectory)
@@ -82,10 +73,9 @@ class Worker:
         if not units:
             return
         built = iter([self.agent])
-        c = self.config
-        another = (lambda: copy.deepcopy(self.agent)) if self.given else (lambda: agent_of(c, self.folder))
-        make = lambda: next(built, None) or another()
-        yield from play_lockstep(units, self.slots(), make, self.episode, self.suite.name, c.step_time_limit)
+        another = (lambda: copy.deepcopy(self.agent)) if self.given else self.make_agent
+        make = lambda: next(built, None) or another()  # noqa: E731
+        yield from play_lockstep(units, self.slots(), make, self.episode, self.suite.name, self.step_time_limit)
 
     def slots(self):
         """The ``batch`` lockstep slots, built once: the suite's own (``make_slots(n)``, the

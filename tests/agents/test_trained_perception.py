@@ -6,7 +6,7 @@ from types import SimpleNamespace
 import pytest
 
 from objsearch.errors import UserError
-from objsearch.eval.runner import check_perception
+from objsearch.eval.plan import check_perception
 from objsearch_agents.house.checkpoint import load_policy, save_policy
 from objsearch_agents.house.config import HouseAgentConfig
 from objsearch_agents.house.policy import HousePolicy

@@ -57,9 +57,9 @@ def test_batch_and_workers_are_capped_by_the_episodes(monkeypatch):
     seen = []
     real = executors.run_local
 
-    def spy(config, todo, workers, video_dir, done, batch, *args):
+    def spy(plan, play, todo, workers, done, batch):
         seen.append((len(todo), workers, batch))
-        return real(config, todo, workers, video_dir, done, batch, *args)
+        return real(plan, play, todo, workers, done, batch)
 
     monkeypatch.setattr(runner, "run_local", spy)
     units = [("unseen-goals", 1, i) for i in range(3)]

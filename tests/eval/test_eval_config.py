@@ -59,9 +59,13 @@ def test_every_field_survives_evaluate(tmp_path, monkeypatch):
     checkpoint.write_bytes(b"weights")
     config = a_config_unlike_the_defaults(checkpoint)
     ran = []
-    real_run_units = runner.run_units
+    real_play_units = runner.play_units
     monkeypatch.setattr(
-        runner, "run_units", lambda c, *args, **kwargs: ran.append(c) or real_run_units(c, *args, **kwargs)
+        runner,
+        "play_units",
+        lambda plan, play, *args, **kwargs: (
+            ran.append(plan.plays[play].config) or real_play_units(plan, play, *args, **kwargs)
+        ),
     )
 
     results = evaluate(config, progress=False, out=tmp_path / "results.json")

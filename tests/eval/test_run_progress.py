@@ -32,17 +32,17 @@ def test_a_multi_run_evaluation_counts_every_run_and_names_the_one_playing(capsy
 def test_a_resumed_multi_run_evaluation_starts_its_count_at_what_was_kept(tmp_path, capsys, monkeypatch):
     config = EvalConfig(agent=AGENT, splits=("unseen-goals",), seeds=(1,), episodes=4)
     out = tmp_path / "r.json"
-    real = runner.run_units
+    real = runner.play_units
 
-    def cut_at_the_second_run(play, *args, **kwargs):
-        if play.training_run == 1:
+    def cut_at_the_second_run(plan, play, *args, **kwargs):
+        if plan.plays[play].config.training_run == 1:
             raise KeyboardInterrupt("cut")
-        return real(play, *args, **kwargs)
+        return real(plan, play, *args, **kwargs)
 
-    monkeypatch.setattr(runner, "run_units", cut_at_the_second_run)
+    monkeypatch.setattr(runner, "play_units", cut_at_the_second_run)
     with pytest.raises(KeyboardInterrupt):
         evaluate(config, progress=False, out=out)
-    monkeypatch.setattr(runner, "run_units", real)
+    monkeypatch.setattr(runner, "play_units", real)
     capsys.readouterr()
     evaluate(config, out=out)
     lines = progress_lines(capsys.readouterr().err)

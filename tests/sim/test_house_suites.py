@@ -74,9 +74,10 @@ def test_video_writes_map_and_mp4(tmp_path):
     config = EvalConfig(
         agent="oracle", suite="house-single", splits=("seen-goals",), seeds=(1,), suite_config={"mode": "live"}
     )
+    from objsearch.eval.plan import resolve
     from objsearch.eval.worker import Worker
 
-    worker = Worker(config, video_dir=str(tmp_path))
+    worker = Worker(resolve(config, video_dir=str(tmp_path)))
     record = worker.run("seen-goals", 1, 0)
     png = tmp_path / "seen-goals_seed1_ep0000.png"
     mp4 = tmp_path / "seen-goals_seed1_ep0000.mp4"
