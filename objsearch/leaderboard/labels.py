@@ -39,15 +39,15 @@ def steps_label(steps: int | None) -> str:
 def replayed_label(results: dict) -> str:
     """``90/1500``: episodes that ``objsearch leaderboard verify`` replayed identical, of the
     entry's, as recorded for its present content; ``–`` when none were."""
-    from objsearch.leaderboard.validate import replayed_of
+    from objsearch.leaderboard.replay import replayed_of
 
     replayed = replayed_of(results)
     return "–" if replayed is None else f"{replayed[0]}/{replayed[1]}"
 
 
 def nonstandard_settings(results: dict) -> list[str]:
-    """The suite settings of ``results`` that are not its suite's standard (``validate.nonstandard_settings``)."""
-    from objsearch.leaderboard.validate import nonstandard_settings as differing
+    """The suite settings of ``results`` that are not its suite's standard (``checks.nonstandard_settings``)."""
+    from objsearch.leaderboard.checks import nonstandard_settings as differing
 
     return differing(results)
 

@@ -30,6 +30,7 @@ from objsearch.leaderboard.labels import number_label as _num
 from objsearch.leaderboard.markdown import markdown_text
 from objsearch.leaderboard.paper import paper_rows
 from objsearch.leaderboard.paper_tables import render_paper_tables
+from objsearch.leaderboard.parsing import load_submission
 from objsearch.leaderboard.relations import relations_rows
 from objsearch.leaderboard.sweep import SVG_FILE, sweep_rows, sweep_svg
 
@@ -37,8 +38,6 @@ SUBMISSIONS = "submissions"
 
 
 def _stored(root: str | Path) -> dict[Path, dict]:
-    from objsearch.leaderboard.validate import load_submission
-
     return {path: load_submission(path) for path in sorted(Path(root, SUBMISSIONS).glob("*/*.json"))}
 
 

@@ -13,7 +13,7 @@ import pytest
 
 from objsearch.cli import main
 from objsearch.eval.metrics import episode_spl, summarize
-from objsearch.leaderboard import validate
+from objsearch.leaderboard import replay
 from objsearch.leaderboard.validate import (
     check_submission,
     miss_probability,
@@ -86,7 +86,7 @@ def test_a_forged_submission_fails_verify_every_time(tmp_path, capsys, monkeypat
     assert run(capsys, "--dir", board, "add", tmp_path / "genuine.json", "--partial", "--create")[0] == 0
     assert run(capsys, "--dir", board, "add", tmp_path / "fake.json", "--partial", "--name", "fake")[0] == 0
     seeds = iter(range(100, 106))  # stand-ins for the OS's randomness: the same code path, repeatable
-    monkeypatch.setattr(validate, "fresh_rng", lambda: np.random.default_rng(next(seeds)))
+    monkeypatch.setattr(replay, "fresh_rng", lambda: np.random.default_rng(next(seeds)))
     for _ in range(6):
         code, _, err = run(capsys, "--dir", board, "verify", "gridworld/fake")
         assert code == 2 and "fake.json fails verification: episode unseen-goals/seed 1/" in err, err

@@ -6,7 +6,7 @@ import json
 
 from objsearch.cli import main
 from objsearch.eval.metrics import summarize
-from objsearch.leaderboard import validate
+from objsearch.leaderboard import replay, validate
 from objsearch.leaderboard.render import render
 from objsearch.leaderboard.validate import check_submission, nonstandard_settings, playable_config
 
@@ -68,8 +68,8 @@ def test_a_submissions_cache_dir_is_ignored_by_check_and_verify(tmp_path, monkey
     results["config"]["suite_config"]["cache_dir"] = str(evil)
     assert check_submission(results) == []  # gridworld has no cache_dir option: it was never looked at
     played = []
-    real = validate.run_units
-    monkeypatch.setattr(validate, "run_units", lambda config, *a, **k: played.append(config) or real(config, *a, **k))
+    real = replay.run_units
+    monkeypatch.setattr(replay, "run_units", lambda config, *a, **k: played.append(config) or real(config, *a, **k))
     assert validate.verify_submission(results, 3) == []
     assert played and all("cache_dir" not in config.suite_config for config in played)
     assert not evil.exists()
