@@ -309,17 +309,10 @@ class _Trainer:
             ["--agent", agent, "--suite", suite, "--seed", str(seed)]
             + [x for key in ("steps", "episodes") if budget[key] for x in (f"--{key}", str(budget[key]))]
             + [x for kv in overrides.items() for x in ("--set", "=".join(kv))]
-            + ["--out", str(out), "--quiet"]
+            + ["--out", str(out)]
         )
-        args = {
-            "agent": agent,
-            "suite": suite,
-            "seed": seed,
-            "out": str(out),
-            "overrides": list(overrides.items()),
-            **budget,
-        }
-        args |= {"command": "objsearch train " + shlex.join(argv), "recipe": source}
+        args = {"agent": agent, "suite": suite, "seed": seed, "out": str(out), "overrides": list(overrides.items())}
+        args |= {**budget, "argv": argv, "command": "objsearch train " + shlex.join(argv), "recipe": source}
         self.steps.append(Step("train", name, needs, args))
         return f"train {name}"
 

@@ -4,7 +4,6 @@ train``, ``evaluate``, ``objsearch leaderboard add``, ``verify`` and ``render``.
 
 from __future__ import annotations
 
-import argparse
 import sys
 import time
 from pathlib import Path
@@ -18,10 +17,9 @@ def is_done(plan: Plan, step: Step) -> bool:
     from objsearch.leaderboard.validate import content_sha256, load_submission, replay_count, replayed_of
 
     a = step.args
-    if step.kind == "train":  # recorded here, or a run that kept no training state (a shipped one)
-        return plan.record(step).is_file() or (
-            Path(a["out"], "policy.pt").is_file() and not Path(a["out"], "state.pt").exists()
-        )
+    if step.kind == "train":  # its weights, and finished: recorded here, or no training state kept (a shipped run)
+        folder = Path(a["out"])
+        return (folder / "policy.pt").is_file() and (plan.record(step).is_file() or not (folder / "state.pt").exists())
     if step.kind == "render" or not Path(a["results"]).is_file():
         return False
     results = load_submission(a["results"])
@@ -80,8 +78,12 @@ def _execute_ray(plan: Plan, todo: list[Step], finished: set[str], address, work
                 _say(step.id)
                 _finish(plan, step, run_step(step.kind, step.args, progress), "ray")
                 finished.add(step.id)
-            if any(all(need in finished for need in step.needs) for step in todo) or not running:
+            if any(all(need in finished for need in step.needs) for step in todo):
                 continue
+            if not running:  # all done; or what is left needs a step that is neither done nor to run: a plan's fault
+                if todo:
+                    raise RuntimeError(f"steps {[step.id for step in todo]} wait for steps that no one runs")
+                break
             (ref,), _ = ray.wait(list(running), num_returns=1)
             step = running.pop(ref)
             try:
@@ -121,9 +123,16 @@ def run_step(kind: str, args: dict, progress: bool = True, workers: int = 1) -> 
     return time.monotonic() - start
 
 
+def _command(argv: list[str]) -> int:
+    """Run ``objsearch ARGV`` in this process (its function, as the command line parses it); its status."""
+    from objsearch.cli import build_parser
+
+    args = build_parser().parse_args(argv)
+    return int(args.func(args) or 0)
+
+
 def _train(a: dict, progress: bool, workers: int) -> None:
     """``objsearch train`` with the step's recipe; it resumes a run it finds in the folder."""
-    from objsearch import train
     from objsearch.fileio import atomic_write
     from objsearch.interrupt import Terminated
 
@@ -131,12 +140,7 @@ def _train(a: dict, progress: bool, workers: int) -> None:
     out.mkdir(parents=True, exist_ok=True)
     with atomic_write(out / "command.txt") as f:
         f.write(a["command"] + "\n")
-    status = train.run(
-        argparse.Namespace(
-            agent=a["agent"], suite=a["suite"], episodes=a["episodes"], steps=a["steps"], seed=a["seed"], out=str(out),
-            overrides=[tuple(kv) for kv in a["overrides"]], fresh=False, quiet=not progress,
-        )
-    )  # fmt: skip
+    status = _command(["train", *a["argv"], *([] if progress else ["--quiet"])])
     if status:
         saved = f"training run {a['suite']}/{a['agent']} seed {a['seed']} stopped, its checkpoint in {out}; rerun the same command to resume"
         raise (Terminated if status == 143 else KeyboardInterrupt)(saved)
@@ -163,35 +167,27 @@ def _eval(a: dict, progress: bool, workers: int) -> None:
 
 def _add(a: dict, progress: bool, workers: int) -> None:
     """``objsearch leaderboard add --replace`` (``--partial`` for results of some splits or seeds)."""
-    from objsearch.leaderboard.cli import run_add
     from objsearch.leaderboard.validate import check_submission, load_submission
 
     results = load_submission(a["results"])
     partial = bool(check_submission(results)) and not check_submission({**results, "partial": True})
-    run_add(
-        argparse.Namespace(
-            dir=a["leaderboard"], files=[a["results"]], name=a["entry"], replace=True, partial=partial, create=True
-        )
-    )
+    flags = ["--name", a["entry"], "--replace", "--create"] + (["--partial"] if partial else [])
+    _command(["leaderboard", "--dir", a["leaderboard"], "add", a["results"], *flags])
 
 
 def _verify(a: dict, progress: bool, workers: int) -> None:
-    """``objsearch leaderboard verify ENTRY`` (``--episodes`` if the plan sets it)."""
-    from objsearch.leaderboard.cli import run_verify
-
-    run_verify(
-        argparse.Namespace(dir=a["leaderboard"], entries=[a["stored"]], all=False, episodes=a["episodes"], trust=False)
-    )
+    """``objsearch leaderboard verify ENTRY`` (``--episodes K`` if the plan sets it)."""
+    episodes = [] if a["episodes"] is None else ["--episodes", str(a["episodes"])]
+    _command(["leaderboard", "--dir", a["leaderboard"], "verify", a["stored"], *episodes])
 
 
 def _render(a: dict, progress: bool, workers: int) -> None:
     """``objsearch leaderboard render``, and the table's section of ``paper_tables.md`` over
     every stored entry, partial ones included, in the plan's table file."""
     from objsearch.fileio import atomic_write
-    from objsearch.leaderboard.cli import run_render
     from objsearch.leaderboard.render import render_paper_tables, stored_submissions
 
-    run_render(argparse.Namespace(dir=a["leaderboard"]))
+    _command(["leaderboard", "--dir", a["leaderboard"], "render"])
     if not a["heading"]:
         return
     entries = stored_submissions(a["leaderboard"])
