@@ -379,7 +379,11 @@ def _entry_steps(
     max_steps = args.max_steps or (TINY["max_steps"] if tiny else None)
     if max_steps:
         suite_config["max_steps"] = max_steps
-    splits = args.splits or ((make_suite(suite).splits[0],) if tiny else ())
+    available = list(make_suite(suite).splits)
+    unknown = [split for split in args.splits or () if split not in available]
+    if unknown:
+        raise UserError(f"--splits {','.join(unknown)}: not a split of {suite} (its splits: {', '.join(available)})")
+    splits = args.splits or (available[:1] if tiny else ())
     seeds = args.seeds or (standard_seeds(suite)[:1] if tiny else standard_seeds(suite))
     checkpoint = (
         None

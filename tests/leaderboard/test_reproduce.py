@@ -99,6 +99,7 @@ def test_dry_run_of_table3_lists_the_training_runs_and_the_estimated_hours(capsy
         (["table4", "--methods", "dqn"], "--methods dqn: not in table4 (its methods: a3c, scene_priors"),
         (["--suite", "rooms", "--methods", "hrl-grg"], "unknown agent 'hrl-grg'; did you mean 'hrl_grg'?"),
         (["table4", "--config", "tiny"], "pass --out DIR"),
+        (["table4", "--splits", "test"], "--splits test: not a split of rooms (its splits: seen-env-seen-goals"),
         (["table4", "--out", "x", "--runs", "3"], "pass --runs 1 with --out"),
     ],
 )
