@@ -22,7 +22,7 @@ import numpy as np
 from scipy.ndimage import binary_dilation
 
 from objsearch.eval.agent import AgentTask
-from objsearch.sim.env import relative_pose_of
+from objsearch.sim.pose_sensor import relative_pose_of
 from objsearch_agents.frontier import CELL, RADIUS, SIZE, FrontierAgent, FrontierConfig, SlotState
 
 

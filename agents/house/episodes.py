@@ -26,8 +26,8 @@ import numpy as np
 from objsearch.house.categories import CATEGORY_IDS, FIRST_OBJECT_ID
 from objsearch.sim.cache import HouseCache, PredictedCache
 from objsearch.sim.camera import AGENT_CAMERA, check_predictor_camera
-from objsearch.sim.env import START_STEPS
 from objsearch.sim.goals import DEFAULT_RULE, GOAL_CAMERA, goal_poses
+from objsearch.sim.house_task import START_STEPS
 from objsearch.sim.world import HouseRef, World
 from objsearch_agents.house.tables import HISTORY, VISIBLE_PIXELS, ObservationTables, house_tables
 

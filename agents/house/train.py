@@ -37,7 +37,7 @@ import torch
 
 from objsearch import torchfile
 from objsearch.fileio import atomic_write, write_json
-from objsearch.sim.env import START_STEPS
+from objsearch.sim.house_task import START_STEPS
 from objsearch_agents.house.checkpoint import CONFIG_FILE, STATE_FILE, load_checkpoint_file
 from objsearch_agents.house.config import HouseAgentConfig
 from objsearch_agents.house.episodes import TrainingHouses

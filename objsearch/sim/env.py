@@ -3,8 +3,6 @@
 
 from __future__ import annotations
 
-import numbers
-from dataclasses import dataclass
 from typing import Any, Sequence
 
 import gymnasium
@@ -12,148 +10,33 @@ import numpy as np
 from gymnasium import spaces
 
 from objsearch.envs import check_action
-from objsearch.errors import UserError
 from objsearch.house.categories import CATEGORY_IDS
-from objsearch.house.rooms import ROOM_TYPES
 from objsearch.sim.cache import HouseCache, PredictedCache, Predictor, quantize_depth
 from objsearch.sim.camera import AGENT_CAMERA, RenderSettings, check_predictor_camera
 from objsearch.sim.goals import DEFAULT_RULE, GOAL_CAMERA, GoalRule, goal_poses_of
-from objsearch.sim.navgraph import ACTIONS, GRID, NUM_MOVE_ACTIONS, STOP, PoseGraph
+from objsearch.sim.house_task import (  # noqa: F401  (ENTRANCE_STEPS, START_STEPS: imported from here too)
+    ENTRANCE_STEPS,
+    START_STEPS,
+    STARTS,
+    HouseTask,
+    check_max_steps,
+    check_room_max_steps,
+    draw_start,
+    entrance_poses,
+)
+from objsearch.sim.navgraph import ACTIONS, GRID, NUM_MOVE_ACTIONS, STOP
+from objsearch.sim.pose_sensor import COS_SIN, TURN_HEADINGS, relative_pose, relative_pose_of  # noqa: F401  (imported from here too)
 from objsearch.sim.world import HouseRef, World
 
 MODES = ("cached", "live")
 OBSERVATIONS = ("gt", "predicted")
-START_STEPS = (6, 40)  # sampled starts: minimal steps to the nearest goal pose in this range
 NUM_CATEGORY_IDS = max(CATEGORY_IDS.values()) + 1
-# Where sampled starts are drawn: among all poses, or near the house's entrance (``draw_start``).
-STARTS = ("anywhere", "entrance")
-ENTRANCE_STEPS = 8  # "entrance" starts: at most this many steps from the entrance pose (``entrance_poses``)
 
 
 MOVES = (0, 3, 4, 5)  # the actions that translate (ahead, back, left, right); a blocked one sets ``collided``
 # Cached mode keeps the depth (metres) of the poses it last read, up to this many bytes an env
 # (64 poses at 64x64; ``CacheLayers.reader``): a copy costs a fraction of a conversion.
 RECENT_DEPTH_BYTES = 1 << 20
-
-
-def relative_pose(graph: PoseGraph, start, pose) -> np.ndarray:
-    """The ``pose`` observation: float32 (..., 3) of (x forward, y left, heading) of pose ids
-    ``pose`` relative to pose ids ``start`` (metres, radians counter-clockwise in (-pi, pi])."""
-    start, pose = np.asarray(start), np.asarray(pose)
-    d = (graph.cells[pose // 4] - graph.cells[start // 4])[..., ::-1] * GRID  # (dx, dy) in the world
-    yaw = (start % 4) * (np.pi / 2)
-    c, s = np.cos(yaw), np.sin(yaw)
-    turn = (pose % 4 - start % 4) % 4
-    heading = np.where(turn == 3, -np.pi / 2, turn * (np.pi / 2))
-    return np.stack([c * d[..., 0] + s * d[..., 1], -s * d[..., 0] + c * d[..., 1], heading], axis=-1).astype(
-        np.float32
-    )
-
-
-# ``relative_pose``'s cos and sin of the 4 start headings and its heading of the 4 turns, computed
-# once by its own numpy expressions: the scalar path below then gives its very bits
-# (tests/sim/test_env_fast_paths.py checks every start heading and turn).
-_COS_SIN = tuple((float(np.cos(h * (np.pi / 2))), float(np.sin(h * (np.pi / 2)))) for h in np.arange(4))
-_TURN_HEADINGS = tuple(float(x) for x in np.where(np.arange(4) == 3, -np.pi / 2, np.arange(4) * (np.pi / 2)))
-
-
-def relative_pose_of(start: tuple[int, int, int], pose: tuple[int, int, int]) -> tuple[float, float, float]:
-    """``relative_pose`` of one pose in Python floats: ``np.float32`` of each is exactly its
-    value. ``start`` and ``pose`` are (row, col, heading) (``PoseGraph.pose_of``); scalar
-    arithmetic in the same order as numpy's, so no tiny arrays are made (the env's every step)."""
-    row0, col0, h0 = start
-    row, col, h = pose
-    c, s = _COS_SIN[h0]
-    dx, dy = (col - col0) * GRID, (row - row0) * GRID
-    return (c * dx + s * dy, -s * dx + c * dy, _TURN_HEADINGS[(h - h0) % 4])
-
-
-def entrance_poses(world: World, steps: int = ENTRANCE_STEPS) -> np.ndarray:
-    """Bool mask over the pose graph: the poses at most ``steps`` navgraph steps from the
-    entrance pose (the 4 headings of the free cell nearest ``spec.entrance_point()``, 1 m
-    inside the entrance door). UserError for a house without an entrance (``house-gen-1``)."""
-    point = world.spec.entrance_point()
-    if point is None:
-        raise UserError(
-            f"house {world.house_id} (generator {world.spec.generator_version}) has no entrance, so starts "
-            "cannot be drawn near it; use house-gen-2 houses (HouseRef(seed=S, generator='house-gen-2')), "
-            "or starts='anywhere'"
-        )
-    graph = world.graph
-    centres = (graph.cells[:, ::-1] + 0.5) * GRID  # (x, y) of every free cell
-    cell = int(np.argmin(((centres - np.asarray(point)) ** 2).sum(axis=1)))
-    dist = graph.shortest_steps([cell * 4 + h for h in range(4)])
-    return (dist >= 0) & (dist <= steps)
-
-
-def draw_start(dist: np.ndarray, rng: np.random.Generator, near: np.ndarray | None = None) -> int | None:
-    """A start pose drawn uniformly with ``rng``, given ``dist``, the minimal steps of every pose
-    to the goal poses.
-
-    ``near=None`` (starts "anywhere"): among the poses ``START_STEPS`` from the goals.
-    ``near`` (a bool mask over poses, e.g. ``entrance_poses``): among the near poses
-    ``START_STEPS`` from the goals; if there is none (the goals are far from the entrance),
-    among the near poses farther than ``START_STEPS[1]`` (``min_steps`` then exceeds the
-    window); if there is none either (goals unreachable from there, or right at the
-    entrance), None: the caller draws another house and target.
-    """
-    window = (dist >= START_STEPS[0]) & (dist <= START_STEPS[1])
-    if near is not None:
-        inside = window & near
-        window = inside if inside.any() else near & (dist > START_STEPS[1])
-    starts = np.flatnonzero(window)
-    if len(starts) == 0:
-        return None
-    return int(starts[rng.integers(len(starts))])
-
-
-def check_max_steps(value) -> int:
-    """``max_steps`` as an int if it is an integer >= 1 (a Python or numpy integer, or a float
-    with no fraction); else ``ValueError`` naming it: ``-5``, ``0``, ``2.5``, ``True`` or ``"100"``
-    are not step limits (``gymnasium.make("ObjSearch/House-v1", max_steps=-5)`` says so, not a ``Box``)."""
-    whole = isinstance(value, numbers.Integral) or (isinstance(value, float) and value.is_integer())
-    if isinstance(value, bool) or not whole or value < 1:
-        raise ValueError(
-            f"max_steps={value!r}: the step limit of an episode is an integer >= 1 (e.g. max_steps=1000, the default)"
-        )
-    return int(value)
-
-
-def check_room_max_steps(room_max_steps: dict[str, int] | None) -> dict[str, int]:
-    """``room_max_steps`` (room type -> step limit) checked: types of ``ROOM_TYPES``, positive
-    integer limits; ValueError otherwise. None: {}."""
-    out = {}
-    for room, limit in (room_max_steps or {}).items():
-        if room not in ROOM_TYPES:
-            raise ValueError(f"room_max_steps: unknown room type {room!r}; use one of {', '.join(ROOM_TYPES)}")
-        if isinstance(limit, bool) or not isinstance(limit, (int, np.integer)) or limit < 1:
-            raise ValueError(f"room_max_steps[{room!r}] must be a positive integer, not {limit!r}")
-        out[room] = int(limit)
-    return out
-
-
-@dataclass(frozen=True)
-class HouseTask:
-    """One episode: a house, a start pose, a target category and its goal poses.
-
-    Attributes:
-        house: house id (a key of the env's houses).
-        start: (row, col, heading) on the house's pose graph.
-        target: category name.
-        goals: goal poses (row, col, heading) from the goal rule.
-        min_steps: minimal actions from start to success: the moves to the nearest goal
-            pose, and the STOP there where the env has ``stop_action``.
-    """
-
-    house: str
-    start: tuple[int, int, int]
-    target: str
-    goals: tuple[tuple[int, int, int], ...]
-    min_steps: int
-
-    def to_json(self) -> dict:
-        """The task as a JSON dict: house, start, target, min_steps (not the goals)."""
-        return {"house": self.house, "start": list(self.start), "target": self.target, "min_steps": self.min_steps}
 
 
 class HouseEnv(gymnasium.Env):
@@ -441,7 +324,7 @@ class HouseEnv(gymnasium.Env):
         # step's scalar paths: Python lists and floats, no numpy scalars or tiny arrays
         self._pose_tuples = graph.pose_tuples
         row0, col0, h0 = graph.pose_of(self._start_pose)
-        c, s = _COS_SIN[h0]
+        c, s = COS_SIN[h0]
         self._origin = (row0, col0, h0, c, s, -s)
         moves = self._dist[self._pose]
         if moves < 0 or moves + self.stop_action != task.min_steps:
@@ -516,7 +399,7 @@ class HouseEnv(gymnasium.Env):
         row0, col0, h0, c, s, minus_s = self._origin
         row, col, h = self._pose_tuples[p]
         dx, dy = (col - col0) * GRID, (row - row0) * GRID
-        pose = np.array((c * dx + s * dy, minus_s * dx + c * dy, _TURN_HEADINGS[(h - h0) % 4]), np.float32)
+        pose = np.array((c * dx + s * dy, minus_s * dx + c * dy, TURN_HEADINGS[(h - h0) % 4]), np.float32)
         if self.mode == "cached":
             rgb, depth, semantic = self._read
             # read from the files, not mapped: new arrays (the caller owns what it is given,

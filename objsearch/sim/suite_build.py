@@ -21,8 +21,8 @@ import numpy as np
 
 from objsearch.errors import UserError
 from objsearch.house.categories import CATEGORY_IDS, FIRST_OBJECT_ID
-from objsearch.sim.env import START_STEPS, STARTS, entrance_poses
 from objsearch.sim.goals import PROTOCOLS
+from objsearch.sim.house_task import START_STEPS, STARTS, entrance_poses
 from objsearch.sim.large_suite import build_tier_suite
 from objsearch.sim.rooms_suite import build_rooms_suite
 from objsearch.sim.suite_record import _episodes, _goal_ids, _goal_table, _suite_record, house_entry
@@ -262,7 +262,7 @@ def suite_from_houses(
     is rendered. The same houses, arguments and paths give the same file.
 
     ``starts``: ``anywhere`` (default), or ``entrance``: every start is drawn near the house's
-    entrance (``objsearch.sim.env.draw_start``; the file then records ``"starts": "entrance"``);
+    entrance (``objsearch.sim.house_task.draw_start``; the file then records ``"starts": "entrance"``);
     a house without an entrance (``house-gen-1``) is a ``UserError`` before anything is rendered.
 
     ``protocol``: ``paper`` (default) or ``objectnav`` (``objsearch.sim.goals.PROTOCOLS``): its

@@ -11,8 +11,8 @@ import numpy as np
 
 from objsearch.errors import UserError
 from objsearch.house.categories import CATEGORY_IDS
-from objsearch.sim.env import START_STEPS, draw_start, entrance_poses
 from objsearch.sim.goals import GOAL_CAMERA, PROTOCOLS, GoalRule, Protocol, goal_poses
+from objsearch.sim.house_task import START_STEPS, draw_start, entrance_poses
 from objsearch.sim.navgraph import NAVGRAPH_VERSION
 from objsearch.sim.suite_schema import content_digest
 from objsearch.sim.world import HouseRef, World
