@@ -15,7 +15,7 @@ import torch
 from torch import nn
 
 from objsearch_agents.gridworld_config import GridAgentConfig
-from objsearch_agents.gridworld_policy import candidate_inputs, candidates
+from objsearch_agents.gridworld_inputs import candidate_inputs, candidates
 
 
 def _f(x: np.ndarray) -> torch.Tensor:

@@ -9,7 +9,7 @@ import torch
 
 from objsearch_agents.dqn_learner import grg_high_loss, hdqn_high_loss
 from objsearch_agents.grg import GoalsRelationalGraph
-from objsearch_agents.gridworld_policy import as_tensor, candidate_inputs, visible_goals
+from objsearch_agents.gridworld_inputs import as_tensor, candidate_inputs, visible_goals
 from objsearch_agents.nets import grg_high_net, hdqn_high_net, seeded_init
 
 

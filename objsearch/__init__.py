@@ -8,14 +8,8 @@ Python API (``objsearch.api``): ``evaluate(agent, suite, seeds=..., split=...)``
 and ``register_suite``, imported on first use.
 """
 
-from importlib.metadata import PackageNotFoundError, version
-
 from objsearch.envs import register_envs
-
-try:
-    __version__ = version("objsearch")
-except PackageNotFoundError:  # running from a source tree that is not installed
-    __version__ = "0.0.0+unknown"
+from objsearch.version import __version__
 
 register_envs()
 

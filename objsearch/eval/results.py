@@ -69,8 +69,8 @@ def build_results(config, suite, records: list[dict], runs: list = (), loaded: l
 
     Adds each record's ``spl`` (rounded to 4 places) in place.
     """
-    from objsearch import __version__
     from objsearch.eval.runs import run_entry
+    from objsearch.version import __version__
 
     for r in records:
         r["spl"] = round(episode_spl(r["success"], r["min_steps"], r["steps"]), 4)
