@@ -7,6 +7,9 @@ also those inside functions. Layers, low to high: ``gridworld`` and ``house``, `
 ...) import no layer; the top-level glue (``GLUE``: ``cli.py`` and the subcommand modules
 that drive several layers) may import any layer, and reaches the agents only inside a
 function, when its command runs.
+
+No two modules of objsearch and the agents import each other, directly or round a circle
+(every import counts here too), and no module is longer than ``MAX_LINES`` lines.
 """
 
 import ast
@@ -64,3 +67,94 @@ def test_no_module_imports_a_higher_layer_or_the_agents(rel):
 def test_every_layer_is_known():
     folders = {p.name for p in ROOT.iterdir() if (p / "__init__.py").exists()}
     assert folders == set(LAYERS), f"give the new package folder a layer in LAYERS: {sorted(folders ^ set(LAYERS))}"
+
+
+# -- no import circles, no long modules (issue 44) ----------------------------------------------
+PACKAGES = {"objsearch": ROOT, "objsearch_agents": ROOT.parent / "agents"}  # import name -> folder
+MAX_LINES = 450  # DESIGN.md: a module does one job; a file over ~400 lines is usually two modules
+NOT_MODULES = (ROOT / "leaderboard" / "templates",)  # the page template is data, not a module
+
+
+def package_modules() -> dict[str, Path]:
+    """Every module of objsearch and the agents (``objsearch_agents``), by its import name."""
+    out = {}
+    for package, folder in PACKAGES.items():
+        for path in sorted(folder.rglob("*.py")):
+            parts = path.relative_to(folder).with_suffix("").parts
+            out[".".join((package, *parts[: -1 if parts[-1] == "__init__" else None]))] = path
+    return out
+
+
+def import_graph() -> dict[str, dict[str, int]]:
+    """module -> {module of objsearch or the agents it imports: line}, every import counted (those
+    inside functions too: a circle of lazy imports is still two modules that need each other)."""
+    modules = package_modules()
+    graph = {}
+    for name, path in modules.items():
+        edges: dict[str, int] = {}
+        for line, imported in imported_modules(ast.parse(path.read_text(), filename=str(path))):
+            while imported and imported not in modules:  # `from a.b import c`: module a.b.c, else a.b
+                imported = imported.rpartition(".")[0]
+            if imported and imported != name:
+                edges.setdefault(imported, line)
+        graph[name] = edges
+    return graph
+
+
+def find_circle(graph: dict[str, dict[str, int]]) -> list[str] | None:
+    """One circle of ``graph`` (its modules, the first again at the end), or None."""
+    state: dict[str, int] = {}  # 1: on the current path, 2: done
+    path: list[str] = []
+
+    def visit(node: str) -> list[str] | None:
+        state[node] = 1
+        path.append(node)
+        for nxt in sorted(graph[node]):
+            if state.get(nxt) == 1:
+                return path[path.index(nxt) :] + [nxt]
+            if nxt not in state:
+                found = visit(nxt)
+                if found:
+                    return found
+        path.pop()
+        state[node] = 2
+        return None
+
+    for node in sorted(graph):
+        if node not in state:
+            found = visit(node)
+            if found:
+                return found
+    return None
+
+
+def test_no_import_circle():
+    graph = import_graph()
+    circle = find_circle(graph)
+    if circle:
+        steps = " -> ".join(f"{a} (line {graph[a][b]})" for a, b in zip(circle, circle[1:]))
+        raise AssertionError(
+            f"import circle: {steps} -> {circle[0]}; move what the modules share into a module that both "
+            "import, or the code that needs both into the one that is imported"
+        )
+
+
+def test_the_circle_finder_finds_circles_and_only_circles():
+    assert find_circle({"a": {"b": 1}, "b": {"c": 2}, "c": {}}) is None
+    assert find_circle({"a": {"b": 1}, "b": {"c": 2}, "c": {"a": 3}}) == ["a", "b", "c", "a"]
+    assert find_circle({"a": {"b": 1}, "b": {"b": 2}}) == ["b", "b"]
+    tree = ast.parse(
+        "import objsearch.sim.world\nfrom objsearch.sim import suite_record\ndef f():\n    import objsearch\n"
+    )
+    assert [m for _, m in imported_modules(tree)] == ["objsearch.sim.world", "objsearch.sim.suite_record", "objsearch"]
+
+
+@pytest.mark.parametrize("path", sorted(package_modules().values()), ids=lambda p: str(p.relative_to(ROOT.parent)))
+def test_no_module_is_longer_than_the_limit(path):
+    if any(folder in path.parents for folder in NOT_MODULES):
+        return
+    lines = len(path.read_text().splitlines())
+    assert lines <= MAX_LINES, (
+        f"{path.relative_to(ROOT.parent)} has {lines} lines, more than {MAX_LINES}: split it by job "
+        "(shared/DESIGN.md: a module does one job); keep the old import path working where other code uses it"
+    )
