@@ -22,7 +22,7 @@ import csv
 import json
 from pathlib import Path
 
-from objsearch.leaderboard.reproduce import Plan, Step, run_folder
+from objsearch.leaderboard.reproduce_plan import Plan, Step, run_folder
 
 # Env steps a second of one evaluation process (--batch 32, start-up included), 2026-12-05, the
 # 2-core CPU machine at load 2.3-2.7: `objsearch-eval --agent A --suite rooms --split
@@ -86,7 +86,7 @@ def _shown(plan: Plan, path: Path) -> Path:
 def train_estimate(plan: Plan, step: Step) -> tuple[float | None, str]:
     """Seconds a training step takes, and where the figure comes from."""
     from objsearch.eval.suites import suite_world
-    from objsearch.leaderboard.reproduce import agent_config
+    from objsearch.leaderboard.reproduce_plan import agent_config
 
     a = step.args
     agent, suite, seed = a["agent"], a["suite"], a["seed"]

@@ -1,4 +1,4 @@
-"""Running an ``objsearch reproduce`` plan (``reproduce.Plan``): which steps are done, and
+"""Running an ``objsearch reproduce`` plan (``reproduce_plan.Plan``): which steps are done, and
 each step, here or as a Ray task. Every step reuses a command's own function: ``objsearch
 train``, ``evaluate``, ``objsearch leaderboard add``, ``verify`` and ``render``."""
 
@@ -9,7 +9,9 @@ import time
 from pathlib import Path
 
 from objsearch.errors import UserError
-from objsearch.leaderboard.reproduce import REMOTE, Plan, Step
+from objsearch.leaderboard.reproduce_plan import Plan, Step
+
+REMOTE = ("train", "eval")  # the steps that --executor ray runs as Ray tasks
 
 
 def is_done(plan: Plan, step: Step) -> bool:
