@@ -203,9 +203,9 @@ def print_plan(plan: Plan) -> None:
         f"{kind} {totals[kind] / 3600:.1f} h" for kind in ("train", "eval", "add", "verify") if kind in totals
     )
     print(f"training runs: {runs[1]} done, {runs[0]} to train")
-    print(
-        f"estimated time to run: {total / 3600:.1f} hours ({_duration(total)}) on one core ({parts}); cache builds not counted"
-    )
+    short = "" if total >= 3600 else f" ({_duration(total)})"
+    parts = f" ({parts})" if parts else ""
+    print(f"estimated time to run: {total / 3600:.1f} hours{short} on one core{parts}; cache builds not counted")
     print(
         "estimates: training from the shipped runs' own log.csv (wall_s), evaluation from env steps/s measured on "
         "the project's 2-core CPU machine (docs/scaling.md); --executor ray spreads the runs over a cluster's cores"
