@@ -14,6 +14,7 @@ PATH = re.compile(r"(?<![\w./-])(?:agents/checkpoints|leaderboard)/[\w.{},/<>*-]
 TICKED = re.compile(r"`([^`\s]+)`")
 ENTRY = re.compile(r"[a-z0-9_]+_predicted(?:_trained)?")  # names only `leaderboard add` gives
 PLACEHOLDER = ("<", ">", "*", "my_agent")  # <suite>/<agent>/, the reader's own agent
+CAPS = re.compile(r"/(?:SUITE|METHOD|AGENT|ENTRY|NAME)\b")  # agents/checkpoints/SUITE/METHOD: placeholders
 
 
 def expand(path: str) -> list[str]:
@@ -30,7 +31,7 @@ def named(page: Path) -> list[tuple[int, str]]:
     out = []
     for number, line in enumerate(page.read_text(encoding="utf-8").splitlines(), 1):
         for match in PATH.finditer(line):
-            if not any(p in match.group(0) for p in PLACEHOLDER):
+            if not any(p in match.group(0) for p in PLACEHOLDER) and not CAPS.search(match.group(0)):
                 out += [(number, p.rstrip(".,:;/")) for p in expand(match.group(0).rstrip(".,:;"))]
         for token in TICKED.findall(line):
             suite, _, name = token.partition("/")
@@ -62,6 +63,7 @@ def test_the_patterns_find_paths_pairs_and_entries(tmp_path):
         "`agents/checkpoints/house-single/{a3c,hrl_grg}/predicted/`, see objsearch/leaderboard/validate.py\n"
         "`house-single/frontier` and `hrl_grg_predicted_trained`; agents/checkpoints/<suite>/<agent>/.\n"
         "leaderboard/submissions/house-single/my_agent.json and leaderboard/README.md.\n"
+        "agents/checkpoints/SUITE/METHOD/ and leaderboard/submissions/SUITE/ENTRY.json are placeholders.\n"
     )
     assert named(page) == [
         (1, "agents/checkpoints/house-single/a3c/predicted"),

@@ -56,7 +56,7 @@ are built, the shipped ones and users' own: ``objsearch.sim.suite_build``.
 content digest, recipe, generator, the suite it is made from); ``SUITE_NAMES`` and the
 other tables are views of it, and the harness's registry (``objsearch.eval.suites.SUITES``)
 takes the names from there. A new shipped suite is a record there (a new recipe also a
-branch in ``suite_build.build_suite``) and its file (``docs/add_a_suite.md``).
+builder in ``suite_build.RECIPES``) and its file (``docs/add_a_suite.md``).
 
 A user's own houses (folders written by ``objsearch generate``) make a suite file with
 ``objsearch suite make`` (``suite_build.suite_from_houses``): the same fields, with each
