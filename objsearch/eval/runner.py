@@ -135,6 +135,10 @@ def evaluate(
 ) -> dict:
     """Evaluate ``config.agent`` on ``config.suite`` and return the results dict.
 
+    The config is resolved once (``objsearch.eval.plan.resolve``: the suite, the agent, its
+    training runs and their checkpoints, the units; a bad suite, split, agent, training run or
+    checkpoint is refused there), then each play of the plan is played (``play_units``).
+
     With ``out``, the results JSON is written there; until it is, finished episodes are
     kept in ``<out>.partial.jsonl`` (one ``<out>.run<SEED>.partial.jsonl`` per training run)
     and a rerun of the same configuration resumes from it. An agent that lists several
