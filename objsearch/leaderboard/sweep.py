@@ -17,7 +17,8 @@ import math
 from objsearch.eval.metrics import paired_difference_ci, spl, success_rate
 from objsearch.leaderboard.relations import BOUNDS, REFERENCE, _gt, _name, _ordered, _split
 
-#: The sweep's house sizes (rooms); ``objsearch.sim.large_suite.SWEEP`` builds their suites.
+#: The sweep's house sizes (rooms): ``objsearch.sim.large_suite.SWEEP``'s, which builds their suites (a
+#: copy, so that the pages import no MuJoCo; a test keeps the two the same).
 SWEEP_ROOMS = (4, 7, 10, 14)
 PLACEMENTS = ("functional", "shuffled")
 MEASURES = (("sr", "SR", success_rate), ("spl", "SPL", spl))
@@ -102,7 +103,7 @@ def sweep_svg(rows: list[dict]) -> str:
     low, high = min(-0.05, *lows), max(0.05, *highs)
     low, high = math.floor(low * 10) / 10, math.ceil(high * 10) / 10
     span_x = SWEEP_ROOMS[-1] - SWEEP_ROOMS[0]
-    total_w = 2 * (WIDTH + MARGIN) + GAP
+    total_w = 2 * (WIDTH + MARGIN) + GAP + MARGIN // 2  # room for the last tick's label
     legend_h = 18 * (len(names) + 2)
     out = [
         f'<svg xmlns="http://www.w3.org/2000/svg" width="{total_w}" height="{HEIGHT + 2 * MARGIN + legend_h}" '
@@ -128,7 +129,7 @@ def sweep_svg(rows: list[dict]) -> str:
                 f'<line x1="{left}" x2="{left + WIDTH}" y1="{y(tick):.1f}" y2="{y(tick):.1f}" '
                 f'stroke="{"#444" if tick == 0 else "#ddd"}"/>'
             )
-            out.append(f'<text x="{left - 6}" y="{y(tick) + 4:.1f}" text-anchor="end">{tick:+.1f}</text>')
+            out.append(f'<text x="{left - 6}" y="{y(tick) + 4:.1f}" text-anchor="end">{_tick_label(tick)}</text>')
         for rooms in SWEEP_ROOMS:
             out.append(f'<text x="{x(rooms):.1f}" y="{MARGIN + HEIGHT + 16}" text-anchor="middle">{rooms}</text>')
         out.append(f'<text x="{left + WIDTH / 2}" y="{MARGIN + HEIGHT + 34}" text-anchor="middle">rooms</text>')
@@ -173,3 +174,8 @@ def sweep_svg(rows: list[dict]) -> str:
 def _ticks(low: float, high: float) -> list[float]:
     count = round((high - low) * 10)
     return [round(low + i / 10, 1) for i in range(count + 1)]
+
+
+def _tick_label(value: float) -> str:
+    """``+0.1``, ``0``, ``-0.2``."""
+    return "0" if value == 0 else f"{value:+.1f}"

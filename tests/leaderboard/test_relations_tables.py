@@ -98,3 +98,12 @@ def test_sweep_svg_is_a_plot_of_every_method_in_both_placements():
     ys = [float(p.split(",")[1]) for p in lines[0].attrib["points"].split()]
     assert len(ys) == len(SWEEP_ROOMS) and np.all(np.diff(ys) < 0)
     assert any(t.text == "object_prior_frontier" for t in svg.findall(f"{ns}text"))
+
+
+def test_the_report_names_the_suites_the_sweep_ships():
+    # sweep.py keeps its own copy of the sizes so that the pages import no MuJoCo: it must match
+    from objsearch.sim.large_suite import SWEEP
+
+    assert SWEEP_ROOMS == tuple(SWEEP)
+    for rooms, tier in SWEEP.items():
+        assert tier.names == (sweep_suite(rooms, "functional"), sweep_suite(rooms, "shuffled"))
