@@ -36,7 +36,7 @@ HEADLINE_AGENTS = (
 )
 # (title, {suite: its splits shown}, observations): the large-house tier's test split in its three
 # placements, ground truth and predictions side by side; the houses' splits of unseen goals, houses or
-# instances; the grid world's test maps. A predicted column is shown once the table has a predicted entry.
+# instances; the grid world's test maps. A suite's predicted column is shown once it has a predicted entry.
 HEADLINE_TABLES = (
     (
         "Large houses, small targets: does knowing where things go help? ([docs](docs/large_houses.md))",
@@ -116,18 +116,18 @@ def _headline_entries(submissions: list[tuple[str, dict]], suites: dict) -> dict
 
 def headline_tables(submissions: list[tuple[str, dict]]) -> str:
     """The Markdown tables of ``HEADLINE_TABLES`` for the full (ranked) ``submissions`` (name, results):
-    ground truth, and beside each column its predicted-observation one where the table has any
-    (the large-house tier)."""
+    ground truth, and beside a suite's column its predicted-observation one where the suite has a
+    predicted entry (the large-house tier)."""
     lines, shown = [], []
     for title, suites, observations in HEADLINE_TABLES:
         entries = _headline_entries(submissions, suites)
-        present = {seen for _, _, seen in entries}
+        present = {(suite, seen) for suite, _, seen in entries}
         columns = [
             (suite, split, seen)
             for suite, splits in suites.items()
             for split in splits
             for seen in observations
-            if seen in present
+            if (suite, seen) in present
         ]
         rows = [agent for agent in HEADLINE_AGENTS if any(key[1] == agent for key in entries)]
         if not rows:
