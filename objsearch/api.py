@@ -19,8 +19,8 @@ import numbers
 from pathlib import Path
 from typing import Iterable
 
-from objsearch.eval.config import PAPER_SEEDS, check_seeds
-from objsearch.eval.suites import make_suite, register_suite
+from objsearch.eval.config import check_seeds
+from objsearch.eval.suites import make_suite, register_suite, standard_seeds
 
 __all__ = ["evaluate", "make_suite", "register_suite"]
 
@@ -28,9 +28,10 @@ __all__ = ["evaluate", "make_suite", "register_suite"]
 def evaluate(
     agent,
     suite: str = "gridworld",
-    seeds: Iterable[int] = PAPER_SEEDS,
+    seeds: Iterable[int] | None = None,
     split: str | Iterable[str] | None = None,
     *,
+    episodes: int | None = None,
     checkpoint: str | None = None,
     batch: int = 1,
     workers: int = 1,
@@ -47,8 +48,11 @@ def evaluate(
             registered name, ``package.module:Class`` or ``file.py:Class``; its shipped
             checkpoint or training runs are loaded as the command line does).
         suite: a suite name (``objsearch suite list``) or a suite file's path.
-        seeds: evaluation seeds; every episode is played once per seed.
+        seeds: evaluation seeds; every episode is played once per seed. None: the suite's
+            standard seeds, as ``objsearch-eval`` (``PAPER_SEEDS``; the large-house tier: 1).
         split: one split, several, or None for all of the suite's.
+        episodes: only the first this many episodes of each split (``--episodes``, a quick
+            look: the results are marked partial and the leaderboard refuses them).
         checkpoint: a checkpoint for a named agent (``--checkpoint``).
         batch, workers, out, progress, step_time_limit: as ``objsearch-eval``'s flags
             (``workers`` > 1 needs a named agent).
@@ -62,7 +66,8 @@ def evaluate(
     from objsearch.eval.config import EvalConfig
     from objsearch.eval.runner import evaluate as run
 
-    for name, value in (("batch", batch), ("workers", workers)):
+    counts = [("batch", batch), ("workers", workers)] + ([("episodes", episodes)] if episodes is not None else [])
+    for name, value in counts:
         if isinstance(value, bool) or not isinstance(value, numbers.Integral) or value < 1:
             raise UserError(f"{name}={value!r}: give an integer >= 1")
     splits = (split,) if isinstance(split, str) else tuple(split or ())
@@ -82,8 +87,9 @@ def evaluate(
         agent=name,
         suite=suite,
         splits=splits,
-        seeds=check_seeds(seeds),
+        seeds=check_seeds(standard_seeds(suite) if seeds is None else seeds),
         checkpoint=checkpoint,
+        episodes=episodes,
         suite_config=suite_config,
         step_time_limit=step_time_limit,
     )

@@ -57,3 +57,11 @@ def test_register_suite_makes_a_name_that_worker_processes_know():
     finally:
         SUITES.pop("gridworld-20", None)
         REGISTERED.pop("gridworld-20", None)
+
+
+def test_episodes_gives_a_quick_partial_look_and_seeds_default_to_the_suites_standard_ones():
+    quick = objsearch.evaluate("random", "gridworld", split="seen-goals", episodes=3)
+    assert quick["seeds"] == [1, 5, 13, 45, 99] and quick.get("partial") is True
+    assert sorted({r["episode_id"] for r in quick["episodes"]}) == [0, 1, 2] and len(quick["episodes"]) == 15
+    with pytest.raises(UserError, match="episodes=0: give an integer >= 1"):
+        objsearch.evaluate("random", "gridworld", episodes=0)
