@@ -64,11 +64,11 @@ def render_sweep(rows: list[dict]) -> list[str]:
         "",
         "The size sweep (`house-size-N`, N rooms, and `house-size-N-shuffled`: the same houses, starts and targets",
         "with every object anywhere in the house). Each cell: the agent's SR or SPL on test minus",
-        f"`{REFERENCE}`'s on the same episodes, with the paired 95% bootstrap interval; `{REFERENCE}`'s own score",
-        "in the first columns. A prior that uses where things are gains on functional houses and not on",
+        f"`{REFERENCE}`'s on the same episodes, with the paired 95% bootstrap interval; `{REFERENCE}`'s own scores",
+        "(functional · shuffled) in the first column. A prior that uses where things are gains on functional houses and not on",
         f"shuffled ones. gt observations, seed 1. The plot: [`{SVG_FILE}`]({SVG_FILE}).",
         "",
-        f"| Method | rooms | {REFERENCE} SR / SPL | SR gain | SR gain shuffled | SPL gain | SPL gain shuffled |",
+        f"| Method | rooms | {REFERENCE} SR / SPL · shuffled | SR gain | SR gain shuffled | SPL gain | SPL gain shuffled |",
         "|---|---|---|---|---|---|---|",
     ]
     cells = {(r["name"], r["rooms"], r["placement"]): r for r in rows}
@@ -77,8 +77,9 @@ def render_sweep(rows: list[dict]) -> list[str]:
             got = [cells.get((name, rooms, p)) for p in PLACEMENTS]
             if not any(got):
                 continue
-            first = next(r for r in got if r)
-            reference = f"{first['reference_sr']:.2f} / {first['reference_spl']:.2f}"
+            reference = " · ".join(
+                "-" if r is None else f"{r['reference_sr']:.2f} / {r['reference_spl']:.2f}" for r in got
+            )
             gains = ["-" if r is None else _gain(r, key) for key in ("sr", "spl") for r in got]
             lines.append(f"| {_name(name)} | {rooms} | {reference} | " + " | ".join(gains) + " |")
     return lines

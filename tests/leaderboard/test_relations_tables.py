@@ -84,7 +84,7 @@ def test_sweep_rows_give_each_size_and_placement_its_paired_gain():
     assert all(r["reference_sr"] == 0.5 for r in rows)
     table = render_sweep(rows)
     assert sum(line.startswith("| object_prior_frontier |") for line in table) == len(SWEEP_ROOMS)
-    assert "| object_prior_frontier | 14 | 0.50 / 0.25 | +0.20 (" in "\n".join(table)
+    assert "| object_prior_frontier | 14 | 0.50 / 0.25 · 0.50 / 0.25 | +0.20 (" in "\n".join(table)
 
 
 def test_sweep_svg_is_a_plot_of_every_method_in_both_placements():

@@ -48,7 +48,9 @@ def test_the_sweep_plays_one_house_size_the_same_targets_and_episodes_functional
         assert shuffled["houses"][house]["seed"] == info["seed"]
     house = next(iter(functional["houses"]))
     assert len(World.load(HouseRef(**functional["houses"][house])).spec.rooms) == rooms
-    same = [[(e["house"], e["start"], e["target"]) for e in suite["splits"]["test"]] for suite in (functional, shuffled)]
+    same = [
+        [(e["house"], e["start"], e["target"]) for e in suite["splits"]["test"]] for suite in (functional, shuffled)
+    ]
     assert same[0] == same[1] and len(same[0]) == 150
 
 
