@@ -177,15 +177,23 @@ def gain_rows(submissions: list[tuple[str, dict]], split: str = "test") -> list[
             continue
         ref = _split(entries[REFERENCE], split)
         for name in _ordered(n for n in entries if n != REFERENCE):
-            mine = _split(entries[name], split)
-            if {(r["episode_id"], r["seed"]) for r in mine} != {(r["episode_id"], r["seed"]) for r in ref}:
-                continue  # other seeds: not the same records to pair
-            row = {"suite": suite, "name": name}
-            for key, measure in (("sr", success_rate), ("spl", spl)):
-                row[key] = measure(mine) - measure(ref)
-                row[key + "_ci"] = paired_difference_ci(mine, ref, measure)
-            rows.append(row)
+            gain = paired_gain(_split(entries[name], split), ref)
+            if gain is not None:
+                rows.append({"suite": suite, "name": name, **gain})
     return rows
+
+
+def paired_gain(mine: list[dict], ref: list[dict]) -> dict | None:
+    """SR and SPL of the records ``mine`` minus those of ``ref``, each with its paired 95%
+    interval (``sr``, ``sr_ci``, ``spl``, ``spl_ci``); None unless both hold the same episodes
+    and seeds (other seeds: not the same records to pair)."""
+    if {(r["episode_id"], r["seed"]) for r in mine} != {(r["episode_id"], r["seed"]) for r in ref}:
+        return None
+    gain = {}
+    for key, measure in (("sr", success_rate), ("spl", spl)):
+        gain[key] = measure(mine) - measure(ref)
+        gain[key + "_ci"] = paired_difference_ci(mine, ref, measure)
+    return gain
 
 
 def _interval_table(heading: str, text: tuple[str, ...], column: str, measure: str, rows: list[dict]) -> list[str]:

@@ -14,8 +14,8 @@ from __future__ import annotations
 import html
 import math
 
-from objsearch.eval.metrics import paired_difference_ci, spl, success_rate
-from objsearch.leaderboard.relations import BOUNDS, REFERENCE, _gt, _name, _ordered, _split
+from objsearch.eval.metrics import spl, success_rate
+from objsearch.leaderboard.relations import BOUNDS, REFERENCE, _gt, _name, _ordered, _split, paired_gain
 
 #: The sweep's house sizes (rooms): ``objsearch.sim.large_suite.SWEEP``'s, which builds their suites (a
 #: copy, so that the pages import no MuJoCo; a test keeps the two the same).
@@ -43,15 +43,16 @@ def sweep_rows(submissions: list[tuple[str, dict]], split: str = "test") -> list
             ref = _split(entries[REFERENCE], split)
             for name in _ordered(n for n in entries if n not in (REFERENCE, *BOUNDS)):
                 mine = _split(entries[name], split)
-                if {(r["episode_id"], r["seed"]) for r in mine} != {(r["episode_id"], r["seed"]) for r in ref}:
-                    continue  # other seeds: not the same records to pair
+                gain = paired_gain(mine, ref)
+                if gain is None:
+                    continue
                 row = {"name": name, "rooms": rooms, "placement": placement, "episodes": len(mine)}
                 for key, _, measure in MEASURES:
                     row[key], row["reference_" + key] = measure(mine), measure(ref)
-                    row[key + "_gain"] = measure(mine) - measure(ref)
-                    row[key + "_gain_ci"] = paired_difference_ci(mine, ref, measure)
+                    row[key + "_gain"], row[key + "_gain_ci"] = gain[key], gain[key + "_ci"]
                 rows.append(row)
-    return sorted(rows, key=lambda r: (_ordered({r["name"] for r in rows}).index(r["name"]), r["rooms"]))
+    order = _ordered({r["name"] for r in rows})
+    return sorted(rows, key=lambda r: (order.index(r["name"]), r["rooms"]))
 
 
 def render_sweep(rows: list[dict]) -> list[str]:
