@@ -39,10 +39,10 @@ def measure(agent: str, seconds: float) -> dict:
     import torch
 
     from objsearch.gridworld.dataset import train_maps
-    from objsearch_agents import gridworld_train
-    from objsearch_agents.gridworld_config import GridAgentConfig
+    from objsearch_agents.gridworld import train as gridworld_train
+    from objsearch_agents.gridworld.config import GridAgentConfig
 
-    torch.set_num_threads(1)  # as ``gridworld_train.train`` sets it
+    torch.set_num_threads(1)  # as ``gridworld.train.train`` sets it
     config = replace(GridAgentConfig(), method=agent, pretrain_episodes=0)
     with tempfile.TemporaryDirectory() as out:
         run = gridworld_train.TrainRun(config, Path(out), list(train_maps().values()))

@@ -1,6 +1,6 @@
 """CPU cost of one grid-world gradient update, and the training speed it caps (issue 16).
 
-One Double-DQN update of the real learner (``dqn_learner.flat_loss`` and ``Learner.step``,
+One Double-DQN update of the real learner (``gridworld.world.flat_loss`` and ``Learner.step``,
 the low-level / DQN network, batch 64: three forward passes and one backward) in float32,
 and the same update under ``torch.autocast("cpu", dtype=torch.bfloat16)``, interleaved,
 one torch thread; and the convolutional trunk's forward and backward as oneDNN runs it
@@ -24,9 +24,10 @@ import numpy as np
 import torch
 import torch.nn.functional as F
 
-from objsearch_agents.dqn_learner import Learner, flat_loss
-from objsearch_agents.gridworld_config import GridAgentConfig
-from objsearch_agents.nets import low_level_net, seeded_init
+from objsearch_agents.core.dqn import Learner
+from objsearch_agents.gridworld.config import GridAgentConfig
+from objsearch_agents.gridworld.nets import low_level_net, seeded_init
+from objsearch_agents.gridworld.world import flat_loss
 
 UPDATES_PER_TRANSITION = 0.1  # the paper's: one update per level every 10 transitions
 

@@ -2,7 +2,7 @@
 
 ```python
 import objsearch
-from objsearch_agents.random_agent import RandomAgent
+from objsearch_agents.baselines.random_agent import RandomAgent
 
 results = objsearch.evaluate(RandomAgent(), "gridworld", seeds=[1])
 print(results["splits"]["seen-goals"]["sr"])

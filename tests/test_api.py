@@ -7,7 +7,7 @@ import objsearch
 from objsearch.errors import UserError
 from objsearch.eval.suites import REGISTERED, SUITES
 from objsearch.eval.suites.gridworld import GridWorldSuite
-from objsearch_agents.random_agent import RandomAgent
+from objsearch_agents.baselines.random_agent import RandomAgent
 
 
 class TwentyStepGridWorld(GridWorldSuite):
@@ -24,7 +24,7 @@ def _records(results):
 def test_evaluate_an_agent_object_as_the_harness_plays_its_name():
     by_object = objsearch.evaluate(RandomAgent(), "gridworld", seeds=[1], split="seen-goals")
     by_name = objsearch.evaluate("random", "gridworld", seeds=[1], split="seen-goals")
-    assert by_object["agent"] == "objsearch_agents.random_agent:RandomAgent"
+    assert by_object["agent"] == "objsearch_agents.baselines.random_agent:RandomAgent"
     assert list(by_object["splits"]) == ["seen-goals"] and len(by_object["episodes"]) > 50
     assert _records(by_object) == _records(by_name)
     # in lockstep the object is copied per slot: the same records

@@ -15,7 +15,7 @@ from objsearch.errors import UserError
 from objsearch.house.spec import HouseSpec
 from objsearch.perception.config import TrainConfig
 from objsearch.perception.model import ModelConfig
-from objsearch_agents.gridworld_config import GridAgentConfig
+from objsearch_agents.gridworld.config import GridAgentConfig
 from objsearch_agents.house.config import HouseAgentConfig
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -177,7 +177,7 @@ def test_with_overrides_refuses_bad_values_and_unknown_fields(overrides, message
 
 def _agent_config_class(path: Path):
     if "scene_priors" in path.parts:  # a method with a config of its own
-        from objsearch_agents.scene_priors import ScenePriorsConfig
+        from objsearch_agents.baselines.scene_priors import ScenePriorsConfig
 
         return ScenePriorsConfig
     return GridAgentConfig if "gridworld" in path.parts else HouseAgentConfig

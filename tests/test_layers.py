@@ -9,7 +9,8 @@ that drive several layers) may import any layer, and reaches the agents only ins
 function, when its command runs.
 
 No two modules of objsearch and the agents import each other, directly or round a circle
-(every import counts here too), and no module is longer than ``MAX_LINES`` lines.
+(every import counts here too), no module is longer than ``MAX_LINES`` lines, and the agents'
+grid-world and house packages (``agents/gridworld``, ``agents/house``) never import each other.
 """
 
 import ast
@@ -157,4 +158,26 @@ def test_no_module_is_longer_than_the_limit(path):
     assert lines <= MAX_LINES, (
         f"{path.relative_to(ROOT.parent)} has {lines} lines, more than {MAX_LINES}: split it by job "
         "(shared/DESIGN.md: a module does one job); keep the old import path working where other code uses it"
+    )
+
+
+# -- the agents' two worlds (issue 44) ----------------------------------------------------------
+WORLDS = ("gridworld", "house")  # folders of agents/: neither imports the other
+
+
+@pytest.mark.parametrize("world", WORLDS)
+def test_the_agents_worlds_never_import_each_other(world):
+    other = next(w for w in WORLDS if w != world)
+    graph = import_graph()
+    own, banned = f"{AGENTS}.{world}", f"{AGENTS}.{other}"
+    bad = [
+        f"{module} (line {line}) imports {imported}"
+        for module, edges in graph.items()
+        if module == own or module.startswith(own + ".")
+        for imported, line in edges.items()
+        if imported == banned or imported.startswith(banned + ".")
+    ]
+    assert not bad, (
+        f"agents/{world}/ imports agents/{other}/: {bad}; what both worlds use goes into agents/core/ or "
+        "agents/methods/, what pairs them into agents/learned.py"
     )

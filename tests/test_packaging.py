@@ -293,7 +293,7 @@ def untrained_checkpoint(cls, suite: str, out: Path) -> str:
     """An untrained policy of ``cls``'s house method for ``suite``, saved as training saves one."""
     from dataclasses import replace
 
-    from objsearch_agents import scene_priors
+    from objsearch_agents.baselines import scene_priors
     from objsearch_agents.house.checkpoint import save_policy
     from objsearch_agents.house.policy import HousePolicy
 

@@ -73,7 +73,7 @@ def test_agent_by_module_path(tmp_path):
         [
             str(BIN / "objsearch-eval"),
             "--agent",
-            "objsearch_agents.random_agent:RandomAgent",
+            "objsearch_agents.baselines.random_agent:RandomAgent",
             "--suite",
             "gridworld",
             "--split",

@@ -16,7 +16,7 @@ from objsearch.interrupt import Terminated, sigterm_as_interrupt
 
 SLOW_AGENT = '''
 import os, time
-from objsearch_agents.oracle import OracleAgent
+from objsearch_agents.baselines.oracle import OracleAgent
 
 class Slow(OracleAgent):
     """The oracle, slowed down while SLOW_AGENT is set (the setting is not part of the run's config)."""

@@ -1,1 +1,3 @@
-"""The house agents: observation tables, networks, policy, trainer and the agents by method."""
+"""The house agents: observation tables, their adapter for the methods (``world``), networks,
+config, policy, checkpoints, trainer, the agents by method (``methods``) and the GRG figure.
+It never imports the grid world's package (``objsearch_agents.gridworld``; ``tests/test_layers.py``)."""

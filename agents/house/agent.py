@@ -26,10 +26,10 @@ import numpy as np
 from objsearch import digests
 from objsearch.errors import UserError
 from objsearch.eval.agent import OneSlotBatch, TrainingRun
+from objsearch_agents.core.rows import RowRandom
 from objsearch_agents.house.checkpoint import CONFIG_FILE, LOG_FILE, POLICY_FILE, load_policy
 from objsearch_agents.house.config import HouseAgentConfig
 from objsearch_agents.house.tables import HISTORY, ObservationTables
-from objsearch_agents.rows import RowRandom
 
 CHECKPOINTS = Path(__file__).resolve().parent.parent / "checkpoints"
 ROOT = CHECKPOINTS.parent.parent  # the checkout: shipped configs name their inputs from here

@@ -60,7 +60,7 @@ def load_policy(
     ``check(config, path)`` sees the stored config before any network is built, to refuse
     one trained for another agent or suite. A file of another kind, another camera or
     contents that do not fit are a ``UserError``."""
-    from objsearch_agents.grg import GoalsRelationalGraph
+    from objsearch_agents.core.grg import GoalsRelationalGraph
 
     path = torchfile.policy_path(path, POLICY_FILE)
     state = load_checkpoint_file(path)

@@ -21,6 +21,8 @@ import numpy as np
 import torch
 
 from objsearch.house.categories import FIRST_OBJECT_ID
+from objsearch_agents.core.nets import as_tensor, seeded_init
+from objsearch_agents.core.rows import rows_of
 from objsearch_agents.house.config import HouseAgentConfig
 from objsearch_agents.house.episodes import object_node
 from objsearch_agents.house.nets import ActorCritic
@@ -29,15 +31,12 @@ from objsearch_agents.house.world import (
     HOUSE,
     NUM_NODES,
     RANDOM,
-    as_tensor,
     candidates,
     low_input,
     node_category,
     sample_actions,
 )
 from objsearch_agents.methods import method_of
-from objsearch_agents.nets import seeded_init
-from objsearch_agents.rows import rows_of
 
 
 class HousePolicy:

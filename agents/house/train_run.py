@@ -14,17 +14,18 @@ import torch
 
 from objsearch import torchfile
 from objsearch.fileio import write_csv
-from objsearch_agents.a2c import ActorCriticLearner
-from objsearch_agents.dqn_learner import Learner
+from objsearch_agents.core.a2c import ActorCriticLearner
+from objsearch_agents.core.dqn import Learner
+from objsearch_agents.core.nets import as_tensor
+from objsearch_agents.core.replay import ReplayBuffer
+from objsearch_agents.core.training_loop import TrainingLoop
 from objsearch_agents.house.checkpoint import LOG_FILE, STATE_FILE, save_policy
 from objsearch_agents.house.config import HouseAgentConfig
 from objsearch_agents.house.episodes import EpisodeBatch, TrainingHouses, object_node
 from objsearch_agents.house.policy import HousePolicy
 from objsearch_agents.house.tables import HISTORY
 from objsearch_agents.house.train_log import LOG_FIELDS, Counters, Window, log_row
-from objsearch_agents.house.world import RANDOM, as_tensor, low_input, node_category
-from objsearch_agents.replay import ReplayBuffer
-from objsearch_agents.training_loop import TrainingLoop
+from objsearch_agents.house.world import RANDOM, low_input, node_category
 
 REPLAY_FIELDS = {
     "hist": ((HISTORY,), np.int64),

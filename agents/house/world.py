@@ -5,7 +5,8 @@ high levels' Q-values and losses.
 Nodes (sub-goals, GRG): object categories ``0..NUM_OBJECTS-1`` (category id minus
 ``FIRST_OBJECT_ID``) and ``RANDOM`` = NUM_OBJECTS, the back-up sub-goal. Training (tables of
 every pose of a house) and evaluation (tables of the 4 frames the agent was given) build
-their inputs here, so what is trained is what is evaluated.
+their inputs here, so what is trained is what is evaluated. The losses are ``core.dqn``'s
+Double DQN on these inputs.
 """
 
 from __future__ import annotations
@@ -14,12 +15,12 @@ import numpy as np
 import torch
 
 from objsearch.house.categories import FIRST_OBJECT_ID
-from objsearch_agents.dqn_learner import td_loss
-from objsearch_agents.grg import GoalsRelationalGraph
+from objsearch_agents.core import dqn
+from objsearch_agents.core.grg import GoalsRelationalGraph
+from objsearch_agents.core.nets import as_tensor, seeded_init
 from objsearch_agents.house.episodes import object_node
 from objsearch_agents.house.nets import NUM_ACTIONS, CandidateQ, CategoryQ
 from objsearch_agents.house.tables import DEPTH_SCALE, NUM_CATEGORIES, NUM_OBJECTS, REACH_RULE, ObservationTables
-from objsearch_agents.nets import seeded_init
 
 RANDOM = NUM_OBJECTS
 NUM_NODES = NUM_OBJECTS + 1
@@ -29,11 +30,6 @@ def node_category(nodes: np.ndarray) -> np.ndarray:
     """Category id of each node (-1 for ``RANDOM``: an all-zero mask)."""
     nodes = np.asarray(nodes)
     return np.where(nodes < RANDOM, nodes + FIRST_OBJECT_ID, -1)
-
-
-def as_tensor(x: np.ndarray) -> torch.Tensor:
-    """float32 torch view of an array (copied only if not already contiguous float32)."""
-    return torch.from_numpy(np.ascontiguousarray(x, dtype=np.float32))
 
 
 def depth_input(tables: ObservationTables, hist: np.ndarray) -> np.ndarray:
@@ -73,13 +69,15 @@ def candidate_inputs(
     return as_tensor(mask), as_tensor(depth_input(tables, hist[env_ix]))
 
 
+def candidate_score(tables: ObservationTables, hist: np.ndarray, weights: np.ndarray):
+    """``score(net, rows, nodes)``: ``CandidateQ`` of (row, node) pairs (``core.dqn``)."""
+    return lambda net, rows, nodes: net(*candidate_inputs(tables, hist, rows, nodes, weights))
+
+
 def candidate_argmax(net, tables: ObservationTables, hist: np.ndarray, cand: np.ndarray, weights: np.ndarray):
     """argmax over each row's candidates of ``CandidateQ`` (``weights``: (N, NUM_NODES), each
     candidate's mask factor), one forward pass for all (env, candidate) pairs."""
-    env_ix, node_ix = np.nonzero(cand)
-    q = np.full(cand.shape, -np.inf, np.float32)
-    q[env_ix, node_ix] = net(*candidate_inputs(tables, hist, env_ix, node_ix, weights)).numpy()
-    return q.argmax(axis=1)
+    return dqn.candidate_argmax(net, candidate_score(tables, hist, weights), cand)
 
 
 def visible_nodes(tables: ObservationTables, hist: np.ndarray) -> np.ndarray:
@@ -148,31 +146,30 @@ class HouseWorld:
         return category_q_loss(learner, batch, tables, candidates)
 
     def candidate_q_loss(self, learner, batch: dict, tables, weights: np.ndarray) -> torch.Tensor:
-        """Double DQN on the candidate Q (``weights``: (B, NUM_NODES), each candidate's mask factor):
-        the next state's best candidate by the online network, its value by the target network."""
-        rows = np.arange(len(batch["action"]))
-        q = learner.online(*candidate_inputs(tables, batch["hist"], rows, batch["action"], weights))
-        with torch.no_grad():
-            nxt = batch["next_hist"]
-            best = candidate_argmax(learner.online, tables, nxt, candidates(tables, nxt, batch["target"]), weights)
-            next_q = learner.target(*candidate_inputs(tables, nxt, rows, best, weights))
-        return td_loss(q, batch["reward"], batch["done"], next_q, learner.gamma)
+        """Double DQN on the candidate Q (``weights``: (B, NUM_NODES), each candidate's mask factor)."""
+        nxt = batch["next_hist"]
+        return dqn.candidate_double_dqn_loss(
+            learner,
+            candidate_score(tables, batch["hist"], weights),
+            candidate_score(tables, nxt, weights),
+            batch["action"],
+            candidates(tables, nxt, batch["target"]),
+            batch,
+        )
 
 
 def category_q_loss(learner, batch: dict, tables, allowed=None) -> torch.Tensor:
     """Double DQN on ``CategoryQ``; ``allowed(tables, hist, targets)`` (bool (N, outputs)), if
     given, restricts the next state's argmax (h-DQN's candidates)."""
-    q = learner.online(*category_input(tables, batch["hist"], batch["target"]))
-    q = q.gather(1, torch.from_numpy(batch["action"])[:, None])[:, 0]
-    with torch.no_grad():
-        nxt = category_input(tables, batch["next_hist"], batch["target"])
-        online = learner.online(*nxt)
-        if allowed is not None:
-            online = online.masked_fill(
-                ~torch.from_numpy(allowed(tables, batch["next_hist"], batch["target"])), -torch.inf
-            )
-        next_q = learner.target(*nxt).gather(1, online.argmax(dim=1, keepdim=True))[:, 0]
-    return td_loss(q, batch["reward"], batch["done"], next_q, learner.gamma)
+    hist, nxt, targets = batch["hist"], batch["next_hist"], batch["target"]
+    return dqn.double_dqn_loss(
+        learner,
+        category_input(tables, hist, targets),
+        batch["action"],
+        category_input(tables, nxt, targets),
+        batch,
+        None if allowed is None else allowed(tables, nxt, targets),
+    )
 
 
 HOUSE = HouseWorld()

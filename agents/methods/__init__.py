@@ -4,7 +4,7 @@ ablations are switches of the config: ``relation``, ``termination``, ``high_leve
 A method is a small strategy object (``base.Method``): which networks it has, how its high
 level chooses a sub-goal, when it ends an option besides the shared rules, and its
 Q-learning loss. Both worlds' policies and training loops run any method through it, each
-through its world adapter (``gridworld_world.GridWorldAdapter``, ``house.world.HouseWorld``),
+through its world adapter (``gridworld.world.GridWorldAdapter``, ``house.world.HouseWorld``),
 and never ask which method it is (``a3c`` runs in the houses only).
 """
 

@@ -1,7 +1,7 @@
 """What a method decides, as the policies and training loops of both worlds ask it.
 
 A method sees a world through its adapter, ``policy.world`` (``house.world.HouseWorld``,
-``gridworld_world.GridWorldAdapter``): the world builds the networks and computes their
+``gridworld.world.GridWorldAdapter``): the world builds the networks and computes their
 Q-values and losses on its own observations (``obs``: the house's ``(tables, hist)``, the
 grid world's 17-channel images), the method says which network, which node and when.
 ``policy.q`` is the network the method learns by Double DQN (None: none); ``policy.values``

@@ -1,11 +1,11 @@
 """HRL-GRG (Ye et al., CVPR 2021): hierarchical reinforcement learning over a Goals
 Relational Graph, and its three ablations as switches of the config. Both worlds run this
-strategy: the grid world (goals in a 7x7 window, ``gridworld_world``) and the houses (object
+strategy: the grid world (goals in a 7x7 window, ``gridworld.world``) and the houses (object
 categories in 10x10 maps, ``house.world``).
 
 The parts, in the order an episode uses them:
 
-1. **The graph** (``graph``). A ``GoalsRelationalGraph`` (``objsearch_agents.grg``) over
+1. **The graph** (``graph``). A ``GoalsRelationalGraph`` (``objsearch_agents.core.grg``) over
    the goal nodes and the back-up "random" node, counted from the options the low level
    runs: after an option toward sub-goal sg, every node first seen k steps into it counts
    "seen after k", every other node "not seen" (the policies count, ``advance``). Plans

@@ -29,7 +29,7 @@ def test_untrained_agent_runs_through_the_harness(agent, task_file):
 
 
 def test_greedy_variant_and_wrong_checkpoint(tmp_path, task_file):
-    from objsearch_agents.gridworld_checkpoint import save_policy
+    from objsearch_agents.gridworld.checkpoint import save_policy
 
     greedy = make_agent("objsearch_agents.hrl_grg:HRLGRGGreedyAgent")
     assert greedy.epsilon == 0.0 and make_agent("hrl_grg").epsilon == 0.1

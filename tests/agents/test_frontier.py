@@ -9,8 +9,8 @@ from objsearch.eval.suites.house import HouseSuite
 from objsearch.sim.env import HouseEnv
 from objsearch.sim.navgraph import HEADING_VECTORS
 from objsearch.sim.world import HouseRef
-from objsearch_agents.frontier import RADIUS, FrontierAgent
-from objsearch_agents.random_agent import RandomAgent
+from objsearch_agents.baselines.frontier import RADIUS, FrontierAgent
+from objsearch_agents.baselines.random_agent import RandomAgent
 
 SMALL = HouseRef(seed=3)  # ~1700 poses
 
@@ -104,7 +104,7 @@ def test_frontier_on_the_grid_world_is_refused_in_one_line(tmp_path):
 
 
 def test_voxel_memory_keeps_sorted_unique_rows():
-    from objsearch_agents.frontier import unique_voxels
+    from objsearch_agents.baselines.frontier import unique_voxels
 
     rng = np.random.default_rng(0)
     for _ in range(50):
@@ -117,7 +117,7 @@ def test_voxel_memory_keeps_sorted_unique_rows():
 def test_view_scores_count_the_voxels_in_view_and_in_sight():
     """Against the textbook form: each voxel is traced on its own (view_scores traces each
     column once), hidden when a cell on the way, other than the target's own, is higher than the ray."""
-    from objsearch_agents.frontier import CELL, STEPS, VOXEL, view_scores
+    from objsearch_agents.baselines.frontier import CELL, STEPS, VOXEL, view_scores
 
     camera = {"cx": 32, "fx": 32.0, "cy": 32, "fy": 32.0, "camera_height": 1.0}
     rng = np.random.default_rng(1)

@@ -5,7 +5,7 @@ import itertools
 import numpy as np
 import pytest
 
-from objsearch_agents.grg import NOT_SEEN, GoalsRelationalGraph, max_product_plans, plan_termination
+from objsearch_agents.core.grg import NOT_SEEN, GoalsRelationalGraph, max_product_plans, plan_termination
 
 
 def test_prior_alone_gives_zero_weights_and_unit_diagonal():

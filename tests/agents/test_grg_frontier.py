@@ -12,9 +12,9 @@ from objsearch.eval.episode import run_episode
 from objsearch.eval.suites.house import HouseSuite
 from objsearch.house.categories import CATEGORY_IDS, FIRST_OBJECT_ID
 from objsearch.sim.camera import AGENT_CAMERA
-from objsearch_agents.frontier import RADIUS, FrontierAgent, project
-from objsearch_agents.grg import GoalsRelationalGraph
-from objsearch_agents.grg_frontier import GRGFrontierAgent, GRGSlotState, grg_file, relation_table
+from objsearch_agents.baselines.frontier import RADIUS, FrontierAgent, project
+from objsearch_agents.baselines.grg_frontier import GRGFrontierAgent, GRGSlotState, grg_file, relation_table
+from objsearch_agents.core.grg import GoalsRelationalGraph
 from objsearch_agents.house.world import NUM_NODES
 
 BED, TOILET, PILLOW, NIGHTSTAND = (CATEGORY_IDS[n] for n in ("bed", "toilet", "pillow", "nightstand"))

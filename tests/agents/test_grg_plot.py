@@ -5,8 +5,8 @@ import numpy as np
 import pytest
 
 from objsearch.cli import main
-from objsearch_agents.grg import GoalsRelationalGraph
-from objsearch_agents.grg_plot import CHAINS, chain_recovery
+from objsearch_agents.core.grg import GoalsRelationalGraph
+from objsearch_agents.gridworld.grg_figure import CHAINS, chain_recovery
 
 
 def chain_graph() -> GoalsRelationalGraph:

@@ -6,8 +6,8 @@ import numpy as np
 import torch
 from torch import nn
 
-from objsearch_agents.gridworld_policy import candidate_inputs, candidates
-from objsearch_agents.nets import grg_high_net, low_level_net, seeded_init
+from objsearch_agents.gridworld.nets import grg_high_net, low_level_net, seeded_init
+from objsearch_agents.gridworld.policy import candidate_inputs, candidates
 
 
 def old_trunk_forward(trunk, x):

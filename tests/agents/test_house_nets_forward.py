@@ -4,9 +4,9 @@ very numbers, and gradients, of calling the layers as modules."""
 import numpy as np
 import torch
 
+from objsearch_agents.gridworld.nets import seeded_init
 from objsearch_agents.house.nets import ActorCritic, CandidateQ, CategoryQ, TwoStream
 from objsearch_agents.house.tables import NUM_CATEGORIES
-from objsearch_agents.nets import seeded_init
 
 
 def body_by_modules(body: TwoStream, mask, depth, extra=None):

@@ -7,8 +7,8 @@ import torch
 
 from objsearch.gridworld.batched import BatchedGridWorld, GridTables
 from objsearch.gridworld.maps import GridMap
-from objsearch_agents.gridworld_config import GridAgentConfig
-from objsearch_agents.gridworld_train import TrainRun
+from objsearch_agents.gridworld.config import GridAgentConfig
+from objsearch_agents.gridworld.train import TrainRun
 
 
 def tiny_map() -> GridMap:

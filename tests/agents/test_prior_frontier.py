@@ -10,9 +10,9 @@ from objsearch.eval.suites.house import HousePath
 from objsearch.house.categories import CATEGORY_IDS
 from objsearch.sim.env import HouseTask, relative_pose_of
 from objsearch.sim.world import HouseRef, World
-from objsearch_agents.frontier import CELL, RADIUS, STEPS
-from objsearch_agents.prior_frontier import ahead_of, count_priors
-from objsearch_agents.room_frontier import target_room_mask
+from objsearch_agents.baselines.frontier import CELL, RADIUS, STEPS
+from objsearch_agents.baselines.prior_frontier import ahead_of, count_priors
+from objsearch_agents.baselines.room_frontier import target_room_mask
 
 
 @pytest.fixture(scope="module")

@@ -1,4 +1,4 @@
-"""The Scene Priors baseline (``objsearch_agents.scene_priors``): its prior graph from the
+"""The Scene Priors baseline (``objsearch_agents.baselines.scene_priors``): its prior graph from the
 training houses alone, its network, learning a trivial task in a single room, its tables,
 the evaluation protocol, and bad input."""
 
@@ -14,12 +14,8 @@ from objsearch.errors import UserError
 from objsearch.house.categories import FIRST_OBJECT_ID
 from objsearch.sim.env import HouseEnv
 from objsearch.sim.world import HouseRef, World
-from objsearch_agents import scene_priors
-from objsearch_agents.house.agent import CHECKPOINTS
-from objsearch_agents.house.episodes import TrainingHouses
-from objsearch_agents.house.policy import sample_actions
-from objsearch_agents.house.tables import NUM_OBJECTS
-from objsearch_agents.scene_priors import (
+from objsearch_agents.baselines import scene_priors
+from objsearch_agents.baselines.scene_priors import (
     EMBED,
     GCN_HIDDEN,
     HIDDEN,
@@ -35,6 +31,10 @@ from objsearch_agents.scene_priors import (
     relation_graph,
     train,
 )
+from objsearch_agents.house.agent import CHECKPOINTS
+from objsearch_agents.house.episodes import TrainingHouses
+from objsearch_agents.house.policy import sample_actions
+from objsearch_agents.house.tables import NUM_OBJECTS
 
 ROOM = HouseRef(seed=0, room="kitchen")  # 272 poses
 TARGET = "fridge"
@@ -203,7 +203,7 @@ def test_tables_are_keyed_and_the_agent_sees_what_training_saw(room, trained, ca
     evaluated agent computes the same features from the env's RGB frame."""
     from objsearch.sim.cache import HouseCache
     from objsearch.sim.camera import AGENT_CAMERA
-    from objsearch_agents.scene_priors import ScenePriorsAgent
+    from objsearch_agents.baselines.scene_priors import ScenePriorsAgent
 
     world = room.houses.worlds[0]
     cache = HouseCache.open(world, AGENT_CAMERA, cache_dir, progress=False)

@@ -4,7 +4,7 @@ import hashlib
 import os
 import time
 
-from objsearch_agents.oracle import OracleAgent
+from objsearch_agents.baselines.oracle import OracleAgent
 
 
 class RaisingAgent(OracleAgent):

@@ -11,7 +11,7 @@ import pytest
 
 BIN = Path(sys.executable).parent
 AGENT = textwrap.dedent("""
-    from objsearch_agents.oracle import OracleAgent
+    from objsearch_agents.baselines.oracle import OracleAgent
 
 
     class MyAgent(OracleAgent):

@@ -7,7 +7,7 @@ from objsearch import digests
 from objsearch.eval import runner
 from objsearch.eval.config import EvalConfig
 from objsearch.eval.runner import evaluate
-from objsearch_agents.oracle import OracleAgent
+from objsearch_agents.baselines.oracle import OracleAgent
 
 
 class LoadingOracle(OracleAgent):

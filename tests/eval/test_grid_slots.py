@@ -13,7 +13,7 @@ from objsearch.eval.suites import make_suite
 from objsearch.gridworld import dataset
 from objsearch.gridworld.maps import shortest_path_actions
 from objsearch.gridworld.tasks import load_tasks
-from objsearch_agents.random_agent import RandomAgent
+from objsearch_agents.baselines.random_agent import RandomAgent
 
 
 class OddActionsAgent(RandomAgent):

@@ -7,8 +7,8 @@ from agents_for_tests import BadActionAgent, InterruptedAgent, RaisingAgent
 
 from objsearch.eval.agent import is_batched
 from objsearch.eval.runner import EvalConfig, evaluate
-from objsearch_agents.oracle import OracleAgent
-from objsearch_agents.random_agent import RandomAgent
+from objsearch_agents.baselines.oracle import OracleAgent
+from objsearch_agents.baselines.random_agent import RandomAgent
 
 
 def test_batched_agents_are_recognised_and_overrides_are_not_lost():

@@ -10,7 +10,7 @@ from objsearch.errors import UserError
 from objsearch.eval.runner import EvalConfig, evaluate
 from objsearch.eval.suites import REGISTERED, SUITES, check_splits, make_suite
 from objsearch.eval.suites.gridworld import GridWorldSuite
-from objsearch_agents.random_agent import RandomAgent
+from objsearch_agents.baselines.random_agent import RandomAgent
 
 
 class NoSplits(GridWorldSuite):

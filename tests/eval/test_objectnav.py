@@ -76,7 +76,7 @@ def test_frontier_calls_stop_when_the_frame_passes_the_rule_and_only_where_stop_
     from objsearch.eval.suites.house import HouseSuite
     from objsearch.sim.env import HouseEnv
     from objsearch.sim.goals import GoalRule
-    from objsearch_agents.frontier import FrontierAgent
+    from objsearch_agents.baselines.frontier import FrontierAgent
 
     suite = HouseSuite(str(objectnav / "on.json"), cache_dir=cache_dir)
     episode = suite.episodes("on")[0]

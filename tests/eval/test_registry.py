@@ -5,19 +5,19 @@ import pytest
 from objsearch.errors import UserError
 from objsearch.eval import registry
 from objsearch.eval.registry import make_agent, registered_agents, resolve_agent
-from objsearch_agents.oracle import OracleAgent
-from objsearch_agents.random_agent import RandomAgent
+from objsearch_agents.baselines.oracle import OracleAgent
+from objsearch_agents.baselines.random_agent import RandomAgent
 
 
 def test_builtin_agents_are_registered():
     agents = registered_agents()
-    assert agents["random"] == "objsearch_agents.random_agent:RandomAgent"
-    assert agents["oracle"] == "objsearch_agents.oracle:OracleAgent"
+    assert agents["random"] == "objsearch_agents.baselines.random_agent:RandomAgent"
+    assert agents["oracle"] == "objsearch_agents.baselines.oracle:OracleAgent"
 
 
 def test_resolve_by_name_and_by_path():
     assert resolve_agent("oracle") is OracleAgent
-    assert resolve_agent("objsearch_agents.random_agent:RandomAgent") is RandomAgent
+    assert resolve_agent("objsearch_agents.baselines.random_agent:RandomAgent") is RandomAgent
 
 
 def test_unknown_agent_suggests_the_close_name():
@@ -29,7 +29,7 @@ def test_bad_module_path_is_a_clear_error():
     with pytest.raises(UserError, match="no module named 'nopkg.mod'"):
         resolve_agent("nopkg.mod:Agent")
     with pytest.raises(UserError, match="has no attribute 'Nope'"):
-        resolve_agent("objsearch_agents.oracle:Nope")
+        resolve_agent("objsearch_agents.baselines.oracle:Nope")
 
 
 def test_class_without_the_protocol_is_rejected():
@@ -56,6 +56,6 @@ def test_lookup_is_lazy(monkeypatch):
     # listing agents imports none of them
     import sys
 
-    monkeypatch.delitem(sys.modules, "objsearch_agents.oracle", raising=False)
+    monkeypatch.delitem(sys.modules, "objsearch_agents.baselines.oracle", raising=False)
     registered_agents()
-    assert "objsearch_agents.oracle" not in sys.modules
+    assert "objsearch_agents.baselines.oracle" not in sys.modules

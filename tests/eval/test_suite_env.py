@@ -12,9 +12,9 @@ from objsearch.errors import UserError
 from objsearch.eval.config import EvalConfig
 from objsearch.eval.metrics import episode_spl
 from objsearch.eval.runner import evaluate
-from objsearch_agents.frontier import FrontierAgent
-from objsearch_agents.oracle import OracleAgent
-from objsearch_agents.random_agent import RandomAgent
+from objsearch_agents.baselines.frontier import FrontierAgent
+from objsearch_agents.baselines.oracle import OracleAgent
+from objsearch_agents.baselines.random_agent import RandomAgent
 
 KEYS = ("split", "seed", "episode_id", "success", "steps", "min_steps", "spl")
 

@@ -12,7 +12,7 @@ BIN = Path(sys.executable).parent
 SLOW_AGENT = """
 import time
 
-from objsearch_agents.oracle import OracleAgent
+from objsearch_agents.baselines.oracle import OracleAgent
 
 
 class SlowAgent(OracleAgent):

@@ -17,7 +17,7 @@ BIN = Path(sys.executable).parent
 
 def test_the_registry_says_which_agents_are_privileged(tmp_path):
     assert is_privileged("oracle") and is_privileged("oracle_rooms_frontier")
-    assert is_privileged("objsearch_agents.oracle:OracleAgent")  # its registered module:Class
+    assert is_privileged("objsearch_agents.baselines.oracle:OracleAgent")  # its registered module:Class
     assert not is_privileged("random") and not is_privileged("frontier") and not is_privileged("no_such_agent")
     # a file agent is never imported to ask (rendering runs no code a submission names)
     marker = tmp_path / "imported"

@@ -15,7 +15,7 @@ from objsearch.sim.cache import HouseCache, cache_key, open_cache_folders
 from objsearch.sim.camera import AGENT_CAMERA
 from objsearch.sim.env import HouseEnv
 from objsearch.sim.world import HouseRef, World
-from objsearch_agents.random_agent import RandomAgent
+from objsearch_agents.baselines.random_agent import RandomAgent
 
 OTHER_HOUSE = HouseRef(seed=4, size_class="small")  # ~1850 poses
 

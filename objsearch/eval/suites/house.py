@@ -40,7 +40,7 @@ from objsearch.sim.world import World
 class HousePath:
     """The oracle's view of a house episode: the pose graph, the goal poses, whether success
     needs STOP, and the house itself (``world``: its spec, rooms and objects), which
-    privileged calibration agents read (``objsearch_agents.room_frontier``)."""
+    privileged calibration agents read (``objsearch_agents.baselines.room_frontier``)."""
 
     graph: PoseGraph
     task: HouseTask

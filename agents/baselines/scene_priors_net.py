@@ -1,4 +1,4 @@
-"""Scene Priors' network (``agents/scene_priors.py``): the last 4 frames' features -> FC512 ReLU;
+"""Scene Priors' network (``agents/baselines/scene_priors.py``): the last 4 frames' features -> FC512 ReLU;
 the target's embedding -> FC512 ReLU; the current frame's scores -> FC512 (linear), shared by
 every node; each node's input is [that, its own embedding -> FC512 (linear)]; three GCN layers
 A_hat H W without bias (1024 ReLU, 1024 ReLU, 1 ReLU); the node outputs -> FC512 (linear);
@@ -12,9 +12,9 @@ import numpy as np
 import torch
 from torch import nn
 
+from objsearch_agents.baselines.scene_priors_graph import normalized_adjacency
 from objsearch_agents.house.nets import NUM_ACTIONS, glorot
 from objsearch_agents.house.tables import HISTORY
-from objsearch_agents.scene_priors_graph import normalized_adjacency
 
 EMBED = 100  # GloVe's 100 dimensions (the authors' glove_map100d)
 HIDDEN = 512

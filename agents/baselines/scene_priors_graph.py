@@ -1,4 +1,4 @@
-"""Scene Priors' relation graph (``agents/scene_priors.py``, substitute 1 of ``docs/scene_priors.md``):
+"""Scene Priors' relation graph (``agents/baselines/scene_priors.py``, substitute 1 of ``docs/scene_priors.md``):
 SAVN's Visual Genome adjacency becomes co-occurrence in an annotated scene corpus, the specs of
 ``house-gen-v2``'s 40 training houses (never an evaluation house). Category j is related to i
 when j is in more than ``RELATION_THRESHOLD`` of the rooms that hold i (i to itself: a second

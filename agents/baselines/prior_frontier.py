@@ -2,7 +2,7 @@
 target usually is, by priors counted on the suite's training houses.
 
 A semantic frontier explorer (SemExp's recipe, without the learning): ``grg_frontier``'s map of
-what was seen where and its frontier score (``agents/grg_frontier.py``), with a prior counted
+what was seen where and its frontier score (``agents/baselines/grg_frontier.py``), with a prior counted
 from the training houses in place of the GRG. No ground truth is read at test time: the agent
 sees categories (``semantic``) and infers from them where it is.
 
@@ -39,8 +39,8 @@ from objsearch.errors import UserError
 from objsearch.eval.agent import AgentTask
 from objsearch.house.categories import CATEGORY_IDS, FIRST_OBJECT_ID, ROOM_TYPES
 from objsearch.sim.env import NUM_CATEGORY_IDS
-from objsearch_agents.frontier import STEPS, FrontierAgent, turns
-from objsearch_agents.grg_frontier import GRGFrontierConfig, GRGSlotState
+from objsearch_agents.baselines.frontier import STEPS, FrontierAgent, turns
+from objsearch_agents.baselines.grg_frontier import GRGFrontierConfig, GRGSlotState
 
 NEAR = 1.5  # metres between object centres: "near" for the object prior
 UNIFORM = 0.5  # the uniform control's relation of every category to every target

@@ -24,15 +24,15 @@ import numpy as np
 from objsearch import digests
 from objsearch.errors import UserError
 from objsearch.eval.agent import OneSlotBatch
-from objsearch_agents.gridworld_checkpoint import POLICY_FILE, load_policy
-from objsearch_agents.gridworld_config import GridAgentConfig
-from objsearch_agents.gridworld_policy import GridPolicy
-from objsearch_agents.rows import RowRandom
+from objsearch_agents.core.rows import RowRandom
+from objsearch_agents.gridworld.checkpoint import POLICY_FILE, load_policy
+from objsearch_agents.gridworld.config import GridAgentConfig
+from objsearch_agents.gridworld.policy import GridPolicy
 
 TRAIN_SUITES = ("gridworld",)
 # Shipped checkpoints, one folder per agent (policy.pt, grg.npz, config.json, log.csv and
 # README.md with the command that trained it); an agent loads its own by default.
-CHECKPOINTS = Path(__file__).parent / "checkpoints" / "gridworld"
+CHECKPOINTS = Path(__file__).parent.parent / "checkpoints" / "gridworld"
 
 
 class GridAgent(OneSlotBatch):
@@ -168,7 +168,7 @@ class GridAgent(OneSlotBatch):
         from dataclasses import replace
 
         from objsearch.eval.suites import suite_world
-        from objsearch_agents.gridworld_train import train
+        from objsearch_agents.gridworld.train import train
 
         if cls.house is not None and suite_world(suite) == "house":
             return cls.house.train(

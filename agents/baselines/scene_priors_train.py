@@ -1,4 +1,4 @@
-"""Training Scene Priors (``agents/scene_priors.py``), as the authors trained it: actor-critic,
+"""Training Scene Priors (``agents/baselines/scene_priors.py``), as the authors trained it: actor-critic,
 reward +10 at the goal and -0.01 every other step, gamma 0.99, n-step returns over 30-step
 rollouts cut at episode ends, entropy 0.01, gradients clipped to 40, RMSProp lr 1e-4 decayed
 linearly to 5e-6, no curriculum, no pretraining. Their single worker becomes N episodes in
@@ -20,15 +20,15 @@ from objsearch.fileio import atomic_write, write_csv, write_json
 from objsearch.house.categories import FIRST_OBJECT_ID
 from objsearch.perception.model import pick_device
 from objsearch.sim.camera import AGENT_CAMERA
-from objsearch_agents.a2c import ActorCriticLearner
+from objsearch_agents.baselines.scene_priors_features import FeatureTables, feature_network
+from objsearch_agents.baselines.scene_priors_graph import prior_graph
+from objsearch_agents.baselines.scene_priors_net import ScenePriorsNet
+from objsearch_agents.core.a2c import ActorCriticLearner
+from objsearch_agents.core.nets import seeded_init
+from objsearch_agents.core.training_loop import TrainingLoop
 from objsearch_agents.house.checkpoint import CONFIG_FILE, LOG_FILE, POLICY_FILE, STATE_FILE
 from objsearch_agents.house.policy import sample_actions
 from objsearch_agents.house.tables import HISTORY
-from objsearch_agents.nets import seeded_init
-from objsearch_agents.scene_priors_features import FeatureTables, feature_network
-from objsearch_agents.scene_priors_graph import prior_graph
-from objsearch_agents.scene_priors_net import ScenePriorsNet
-from objsearch_agents.training_loop import TrainingLoop
 
 NAME = "scene_priors"
 POLICY_KIND = "objsearch-scene-priors-policy"

@@ -52,19 +52,14 @@ from objsearch import digests, torchfile
 from objsearch.errors import UserError
 from objsearch.house.categories import FIRST_OBJECT_ID
 from objsearch.sim.camera import AGENT_CAMERA, AGENT_CAMERA_NAME, check_camera
-from objsearch_agents.house.agent import HouseAgent
-from objsearch_agents.house.checkpoint import POLICY_FILE
-from objsearch_agents.house.policy import sample_actions
-from objsearch_agents.house.tables import HISTORY
-from objsearch_agents.rows import RowRandom
-from objsearch_agents.scene_priors_features import (
+from objsearch_agents.baselines.scene_priors_features import (
     FEATURE_GRID,
     TABLE_VERSION,
     FeatureTables,
     feature_network,
     frame_features,
 )
-from objsearch_agents.scene_priors_graph import (
+from objsearch_agents.baselines.scene_priors_graph import (
     GRAPH_SUITE,
     RELATION_THRESHOLD,
     graph_refs,
@@ -74,8 +69,8 @@ from objsearch_agents.scene_priors_graph import (
     relation_graph,
     room_counts,
 )
-from objsearch_agents.scene_priors_net import EMBED, GCN_HIDDEN, HIDDEN, ScenePriorsNet
-from objsearch_agents.scene_priors_train import (
+from objsearch_agents.baselines.scene_priors_net import EMBED, GCN_HIDDEN, HIDDEN, ScenePriorsNet
+from objsearch_agents.baselines.scene_priors_train import (
     LOG_FIELDS,
     NAME,
     POLICY_KIND,
@@ -85,6 +80,11 @@ from objsearch_agents.scene_priors_train import (
     suite_max_steps,
     train,
 )
+from objsearch_agents.core.rows import RowRandom
+from objsearch_agents.house.agent import HouseAgent
+from objsearch_agents.house.checkpoint import POLICY_FILE
+from objsearch_agents.house.policy import sample_actions
+from objsearch_agents.house.tables import HISTORY
 
 # the method's names, from its modules and this one (tests, docs and checkpoints' code name them here)
 __all__ = [

@@ -1,4 +1,4 @@
-"""Scene Priors' visual input (``agents/scene_priors.py``, substitute 2 of ``docs/scene_priors.md``):
+"""Scene Priors' visual input (``agents/baselines/scene_priors.py``, substitute 2 of ``docs/scene_priors.md``):
 ImageNet ResNet-50 features become the frozen encoder of the shipped perception network (stem
 to ASPP, average-pooled to 2x2: 384 values a frame), ImageNet's 1000 class scores its mean
 per-pixel softmax over the 69 category ids. Both come from RGB only, so gt and predicted

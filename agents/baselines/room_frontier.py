@@ -1,6 +1,6 @@
 """``oracle_rooms_frontier``: a privileged calibration agent, never ranked.
 
-``frontier`` (``agents/frontier.py``) told which rooms hold the target: it reads the house
+``frontier`` (``agents/baselines/frontier.py``) told which rooms hold the target: it reads the house
 from the episode's ground truth (``task.privileged.world``: the rooms the target's instances
 stand in) and explores the frontiers in and beside those rooms first. Everything else is
 ``frontier``'s. What it gains over ``frontier`` is the headroom a perfect room prior could
@@ -23,7 +23,7 @@ from scipy.ndimage import binary_dilation
 
 from objsearch.eval.agent import AgentTask
 from objsearch.sim.pose_sensor import relative_pose_of
-from objsearch_agents.frontier import CELL, RADIUS, SIZE, FrontierAgent, FrontierConfig, SlotState
+from objsearch_agents.baselines.frontier import CELL, RADIUS, SIZE, FrontierAgent, FrontierConfig, SlotState
 
 
 @dataclass(frozen=True)

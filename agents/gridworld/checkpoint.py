@@ -1,6 +1,6 @@
 """The grid-world agents' checkpoint format: the files of a training run's folder and the
-evaluable policy among them. Training (``gridworld_train``) writes it, the agents
-(``gridworld_agent``) read it, so evaluating never imports the trainer.
+evaluable policy among them. Training (``gridworld.train``) writes it, the agents
+(``gridworld.agent``) read it, so evaluating never imports the trainer.
 
 A run's folder holds ``config.json`` (the ``GridAgentConfig``), ``command.txt``, ``log.csv``,
 ``state.pt`` (everything needed to resume) and the evaluable policy: ``policy.pt``, a
@@ -18,8 +18,8 @@ from typing import Callable
 
 from objsearch import torchfile
 from objsearch.errors import UserError
-from objsearch_agents.gridworld_config import GridAgentConfig
-from objsearch_agents.gridworld_policy import GridPolicy
+from objsearch_agents.gridworld.config import GridAgentConfig
+from objsearch_agents.gridworld.policy import GridPolicy
 
 POLICY_FILE, STATE_FILE, CONFIG_FILE, LOG_FILE, GRG_FILE = "policy.pt", "state.pt", "config.json", "log.csv", "grg.npz"
 POLICY_EXPECTED = "a grid-world policy.pt written by objsearch train"
@@ -57,7 +57,7 @@ def load_policy(
 
     ``check(config, path)`` sees the stored config before any network is built, to refuse
     one trained for another agent. Contents that do not fit are a ``UserError``."""
-    from objsearch_agents.grg import GoalsRelationalGraph
+    from objsearch_agents.core.grg import GoalsRelationalGraph
 
     path = torchfile.policy_path(path, POLICY_FILE)
     state = load_policy_file(path)

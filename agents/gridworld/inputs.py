@@ -1,13 +1,11 @@
 """What the grid-world networks see of an observation, the 17-channel 7x7 window (obstacles, then
 one channel per goal): the goals in view and under the agent, the candidate sub-goals, and the
 inputs of the low level and of the candidates' scores. Shared by the policy
-(``gridworld_policy``), the grid world's adapter (``gridworld_world``) and the learner
-(``dqn_learner``)."""
+(``gridworld.policy``) and the grid world's adapter and losses (``gridworld.world``)."""
 
 from __future__ import annotations
 
 import numpy as np
-import torch
 
 CENTRE = 3
 
@@ -51,8 +49,3 @@ def candidate_inputs(images: np.ndarray, weights: np.ndarray, rows: np.ndarray, 
     out[real, 1] = images[rows[real], 1 + nodes[real]] * w[real, None, None]
     out[~real, 1] = w[~real, None, None]
     return out
-
-
-def as_tensor(x: np.ndarray) -> torch.Tensor:
-    """float32 torch view of an array (copied only if not already contiguous float32)."""
-    return torch.from_numpy(np.ascontiguousarray(x, dtype=np.float32))

@@ -54,7 +54,7 @@ import numpy as np
 from objsearch.eval.agent import AgentTask, OneSlotBatch
 from objsearch.house.categories import CATEGORY_IDS
 from objsearch.sim.goals import GOAL_CAMERA
-from objsearch_agents.frontier_geometry import (
+from objsearch_agents.baselines.frontier_geometry import (
     CELL,
     RADIUS,
     SIZE,

@@ -89,11 +89,3 @@ def hdqn_high_net(num_goals: int) -> QNet:
 
 def grg_high_net() -> QNet:
     return QNet(2, 1)
-
-
-def seeded_init(builder, seed: int, *args) -> nn.Module:
-    """Build a network with weights drawn from ``seed`` without touching the global torch
-    RNG state (it is forked and restored)."""
-    with torch.random.fork_rng(devices=[]):
-        torch.manual_seed(seed)
-        return builder(*args)

@@ -3,7 +3,7 @@
 The modular ObjectNav recipe of SemExp and L3MVN (score exploration frontiers by how likely
 the target lies near what has been seen there), with HRL-GRG's Goals Relational Graph as the
 prior instead of a learned network or a language model. Everything else is ``frontier``'s
-(``agents/frontier.py``): the map, approach on sight, recovery.
+(``agents/baselines/frontier.py``): the map, approach on sight, recovery.
 
 * **Relation.** ``relation[c]`` of a seen object category ``c`` to the episode's target ``g``
   is the GRG's plan value ``C(c -> g)`` (``relation="plan"``, the max-product plan of
@@ -43,8 +43,8 @@ from objsearch.errors import UserError
 from objsearch.eval.agent import AgentTask
 from objsearch.house.categories import FIRST_OBJECT_ID
 from objsearch.sim.env import NUM_CATEGORY_IDS
-from objsearch_agents.frontier import CELL, FrontierAgent, FrontierConfig, SlotState
-from objsearch_agents.grg import GoalsRelationalGraph
+from objsearch_agents.baselines.frontier import CELL, FrontierAgent, FrontierConfig, SlotState
+from objsearch_agents.core.grg import GoalsRelationalGraph
 
 GRG_RUN = "hrl_grg_explorer"  # the shipped training run whose GRG is used
 GRG_FILE = "grg.npz"

@@ -25,7 +25,7 @@ Deviations forced by batching (documented in ``docs/gridworld_agents.md``, "Choi
   options that end within the step). The high level's relation weights at update time
   come from the current graph.
 
-Files in the run directory (their format: ``gridworld_checkpoint``): ``config.json``,
+Files in the run directory (their format: ``gridworld.checkpoint``): ``config.json``,
 ``command.txt``, ``policy.pt`` (+ ``grg.npz``) the evaluable policy, ``state.pt`` everything
 needed to resume (networks, optimisers, replay memories, env and option state, random
 generator, counters, log rows), ``log.csv``. A run resumes from ``state.pt`` when restarted
@@ -46,12 +46,13 @@ from objsearch.fileio import atomic_write, write_csv
 from objsearch.gridworld.batched import HALF, BatchedGridWorld, GridTables
 from objsearch.gridworld.maps import GridMap
 from objsearch.gridworld.tasks import SEEN_GOALS
-from objsearch_agents.dqn_learner import Learner, flat_loss
-from objsearch_agents.gridworld_checkpoint import CONFIG_FILE, LOG_FILE, STATE_FILE, load_policy_file, save_policy
-from objsearch_agents.gridworld_config import GridAgentConfig
-from objsearch_agents.gridworld_policy import GridPolicy, goal_input, goals_under_agent
-from objsearch_agents.replay import ReplayBuffer
-from objsearch_agents.training_loop import TrainingLoop
+from objsearch_agents.core.dqn import Learner
+from objsearch_agents.core.replay import ReplayBuffer
+from objsearch_agents.core.training_loop import TrainingLoop
+from objsearch_agents.gridworld.checkpoint import CONFIG_FILE, LOG_FILE, STATE_FILE, load_policy_file, save_policy
+from objsearch_agents.gridworld.config import GridAgentConfig
+from objsearch_agents.gridworld.policy import GridPolicy, goal_input, goals_under_agent
+from objsearch_agents.gridworld.world import flat_loss
 
 LOG_FIELDS = (
     "episodes",

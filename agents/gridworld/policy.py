@@ -18,20 +18,20 @@ from __future__ import annotations
 import numpy as np
 import torch
 
-from objsearch_agents.gridworld_config import GridAgentConfig
-from objsearch_agents.gridworld_inputs import (  # noqa: F401  (imported from here too)
+from objsearch_agents.core.nets import as_tensor, seeded_init
+from objsearch_agents.core.rows import rows_of
+from objsearch_agents.gridworld.config import GridAgentConfig
+from objsearch_agents.gridworld.inputs import (  # noqa: F401  (imported from here too)
     CENTRE,
-    as_tensor,
     candidate_inputs,
     candidates,
     goal_input,
     goals_under_agent,
     visible_goals,
 )
-from objsearch_agents.gridworld_world import GridWorldAdapter
+from objsearch_agents.gridworld.nets import low_level_net
+from objsearch_agents.gridworld.world import GridWorldAdapter
 from objsearch_agents.methods import method_of
-from objsearch_agents.nets import low_level_net, seeded_init
-from objsearch_agents.rows import rows_of
 
 
 class GridPolicy:
@@ -98,7 +98,7 @@ class GridPolicy:
     @torch.no_grad()
     def select_subgoals(self, images: np.ndarray, epsilon: np.ndarray, rng) -> None:
         """Give a sub-goal to every env that has none (hierarchical agents only). ``rng``: a
-        Generator, or an ``objsearch_agents.rows.RowRandom`` with one per row."""
+        Generator, or an ``objsearch_agents.core.rows.RowRandom`` with one per row."""
         need = np.flatnonzero(self.subgoal < 0)
         if not len(need):
             return

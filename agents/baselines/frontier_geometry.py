@@ -1,4 +1,4 @@
-"""The frontier agent's map geometry (``agents/frontier.py``): the map's grid (``CELL`` metres a
+"""The frontier agent's map geometry (``agents/baselines/frontier.py``): the map's grid (``CELL`` metres a
 cell, ``SIZE`` cells a side, the start at (``RADIUS``, ``RADIUS``); headings' steps ``STEPS``),
 depth frames as points on it (``project``), cheapest paths over it (``bfs``), and how much of the
 view the target's voxels would fill from a pose (``view_scores``)."""

@@ -1,16 +1,18 @@
 """The grid world as the methods see it (``GridWorldAdapter``): nodes (goals ``0..G-1`` and
 the back-up "random" node ``G``), the high levels' networks, their Q-values on the
-17-channel images (obstacles, then one channel per goal) and their losses."""
+17-channel images (obstacles, then one channel per goal) and their losses (Double DQN,
+``core.dqn``, on the grid world's inputs; ``flat_loss`` also trains the low level)."""
 
 from __future__ import annotations
 
 import numpy as np
 import torch
 
-from objsearch_agents.dqn_learner import grg_high_loss, hdqn_high_loss
-from objsearch_agents.grg import GoalsRelationalGraph
-from objsearch_agents.gridworld_inputs import as_tensor, candidate_inputs, visible_goals
-from objsearch_agents.nets import grg_high_net, hdqn_high_net, seeded_init
+from objsearch_agents.core.dqn import Learner, as_tensor, candidate_argmax, candidate_double_dqn_loss, double_dqn_loss
+from objsearch_agents.core.grg import GoalsRelationalGraph
+from objsearch_agents.core.nets import seeded_init
+from objsearch_agents.gridworld.inputs import candidate_inputs, candidates, visible_goals
+from objsearch_agents.gridworld.nets import grg_high_net, hdqn_high_net
 
 
 class GridWorldAdapter:
@@ -42,11 +44,7 @@ class GridWorldAdapter:
     def candidate_argmax(self, net, images: np.ndarray, cand: np.ndarray, weights: np.ndarray) -> np.ndarray:
         """argmax over the candidates of Q(obstacles, candidate channel * weight), one forward
         pass for all (env, candidate) pairs."""
-        env_ix, node_ix = np.nonzero(cand)
-        inputs = candidate_inputs(images, weights, env_ix, node_ix)
-        q = np.full(cand.shape, -np.inf, dtype=np.float32)
-        q[env_ix, node_ix] = net(torch.from_numpy(inputs))[:, 0].numpy()
-        return q.argmax(axis=1)
+        return candidate_argmax(net, candidate_score(images, weights), cand)
 
     def visible_nodes(self, images: np.ndarray) -> np.ndarray:
         """bool (N, G+1): goals in the 7x7 window ("random" never)."""
@@ -58,7 +56,39 @@ class GridWorldAdapter:
         return plan_values[: self.num_goals]
 
     def node_q_loss(self, learner, batch: dict, tables) -> torch.Tensor:
-        return hdqn_high_loss(learner, batch, self.num_goals)
+        """h-DQN's high level: 17-channel image + one-hot goal -> G+1 Q-values; the next value
+        maximises over the candidates visible in the next observation."""
+        onehot = as_tensor(np.eye(self.num_goals)[batch["goal"]])
+        nxt = batch["next_obs"]
+        return double_dqn_loss(
+            learner,
+            (as_tensor(batch["obs"]), onehot),
+            batch["subgoal"],
+            (as_tensor(nxt), onehot),
+            batch,
+            candidates(nxt),
+        )
 
     def candidate_q_loss(self, learner, batch: dict, tables, weights: np.ndarray) -> torch.Tensor:
-        return grg_high_loss(learner, batch, weights)
+        """HRL-GRG's high level: one Q per (obstacles, candidate channel * weight); ``weights``
+        (B, G+1): each transition's relation weights toward its goal."""
+        weights = weights[batch["goal"]]
+        nxt = batch["next_obs"]
+        return candidate_double_dqn_loss(
+            learner,
+            candidate_score(batch["obs"], weights),
+            candidate_score(nxt, weights),
+            batch["subgoal"],
+            candidates(nxt),
+            batch,
+        )
+
+
+def candidate_score(images: np.ndarray, weights: np.ndarray):
+    """``score(net, rows, nodes)``: the Q of (row, node) pairs of ``images`` (``core.dqn``)."""
+    return lambda net, rows, nodes: net(torch.from_numpy(candidate_inputs(images, weights, rows, nodes)))[:, 0]
+
+
+def flat_loss(learner: Learner, batch: dict) -> torch.Tensor:
+    """Double DQN on the 4-action Q-network on 2-channel inputs (DQN; the low level)."""
+    return double_dqn_loss(learner, (as_tensor(batch["obs"]),), batch["action"], (as_tensor(batch["next_obs"]),), batch)
