@@ -3,6 +3,12 @@ observation cache (build time per house, cached env steps per second).
 
     .venv/bin/python benchmarks/bench_house.py [--seed 2] [--json]
     .venv/bin/python benchmarks/bench_house.py --cached-only [--repeat 3]   # env steps only
+    .venv/bin/python benchmarks/bench_house.py --digest 100000   # records, not speed
+
+``--digest STEPS`` prints the sha256 of seeded rollouts on the house's cache in
+``$OBJSEARCH_CACHE`` (one ``HouseEnv`` with and without STOP, and ``HouseVectorEnv``;
+random actions, 300-step episodes; every observation's dtype, shape and bytes, rewards,
+flags and info): the same digests before and after a change mean the same records.
 
 ``--cached-only`` measures only the cached env figures, on the house's cache in
 ``$OBJSEARCH_CACHE`` (built there if missing, not timed), ``--repeat`` times each
@@ -18,6 +24,7 @@ are also given per CPU second (``*_cpu``), which a busy machine changes less.
 from __future__ import annotations
 
 import argparse
+import hashlib
 import json
 import os
 import sys
@@ -66,16 +73,57 @@ def cached_vector_steps_per_s(
     return total / (time.perf_counter() - wall), total / (time.process_time() - cpu)
 
 
+def rollout_digest(ref: HouseRef, cache_dir: str, steps: int) -> dict[str, str]:
+    """sha256 of seeded random rollouts (see ``--digest``): {"single", "single_stop", "vector"}."""
+
+    def add(h, obs: dict) -> None:
+        for key in sorted(obs):
+            value = np.asarray(obs[key])
+            h.update(f"{key}{value.dtype}{value.shape}".encode() + value.tobytes())
+
+    out = {}
+    for name, stop in (("single", False), ("single_stop", True)):
+        env = HouseEnv([ref], mode="cached", cache_dir=cache_dir, max_steps=300, stop_action=stop)
+        h = hashlib.sha256()
+        obs, info = env.reset(seed=0)
+        add(h, obs)
+        actions = np.random.default_rng(1).integers(int(env.action_space.n), size=steps).tolist()
+        for action in actions:
+            obs, reward, terminated, truncated, info = env.step(action)
+            add(h, obs)
+            h.update(repr((reward, terminated, truncated, sorted(info.items()))).encode())
+            if terminated or truncated:
+                obs, _ = env.reset()
+                add(h, obs)
+        out[name] = h.hexdigest()
+    env = HouseVectorEnv(16, houses=[ref], cache_dir=cache_dir, max_steps=300)
+    h = hashlib.sha256()
+    obs, _ = env.reset(seed=0)
+    add(h, obs)
+    for batch in np.random.default_rng(2).integers(6, size=(steps // 16, 16)):
+        obs, reward, terminated, truncated, _ = env.step(batch)
+        add(h, {**obs, "reward": reward, "terminated": terminated, "truncated": truncated})
+    out["vector"] = h.hexdigest()
+    return out
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--seed", type=int, default=2, help="generator seed of the house (default: a medium one)")
     parser.add_argument("--json", action="store_true")
     parser.add_argument("--cached-only", action="store_true", help="only the cached env steps, on $OBJSEARCH_CACHE")
     parser.add_argument("--repeat", type=int, default=1, help="--cached-only: runs of each measurement")
+    parser.add_argument("--digest", type=int, metavar="STEPS", help="print the records' sha256 instead of speeds")
     args = parser.parse_args()
 
     ref = HouseRef(seed=args.seed, size_class="medium")
     world = World.load(ref)
+    if args.digest:
+        cache_dir = str(HouseCache.open(world, AGENT_CAMERA, progress=False).directory.parent)
+        print(
+            json.dumps({"house": world.house_id, "steps": args.digest, **rollout_digest(ref, cache_dir, args.digest)})
+        )
+        return
     if args.cached_only:
         cache_dir = str(HouseCache.open(world, AGENT_CAMERA, progress=False).directory.parent)
         out = {"house": world.house_id, "poses": world.graph.num_poses}

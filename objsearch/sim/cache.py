@@ -1,35 +1,41 @@
 """Observations pre-rendered at every pose of a house (the paper's protocol).
 
-A cache lives in ``<cache dir>/<house_id>-<key>/`` with ``rgb.npy`` uint8 (P, H, W, 3),
-``depth.npy`` uint16 (P, H, W) millimetres, ``semantic.npy`` uint8 (P, H, W) and ``meta.json``
-(24 KB a pose at 64x64; 40-150 MB a house). ``.depth`` reads as float32 metres
-(``MillimetreDepth``), bit-identical to ``quantize_depth`` of the rendered depth. The key hashes the house's spec, the render settings and the pose-graph
-version, so a changed house or camera never reads a stale cache; a cache whose metadata
-does not match is rebuilt. It is built in a temporary folder and renamed into place, so an
-interrupted build leaves nothing half-written. The cache directory is ``$OBJSEARCH_CACHE``,
-else ``~/.cache/objsearch``, or what the caller passes.
+A cache lives in ``<cache dir>/<house_id>-<key>/``: ``frames.npy``, one record a pose
+(``record_dtype``: rgb uint8 (H, W, 3), semantic uint8 (H, W), depth float32 (H, W) metres
+rounded to the millimetre, side by side), and ``meta.json`` (32 KB a pose at 64x64; 50-200
+MB a house). One record a pose, so that one read gives a step all its observations; depth
+as the float32 the env gives, so that nothing is converted per step (cache-v2 stored uint16
+millimetres in a file a layer: a quarter smaller, and a step cost three reads and a
+division; ``benchmarks/RESULTS.md``). The key hashes the house's spec, the render settings
+and the pose-graph version, so a changed house or camera never reads a stale cache; a cache
+whose metadata does not match is rebuilt. It is built in a temporary folder and renamed
+into place, so an interrupted build leaves nothing half-written. A cache-v2 folder of the
+same house and camera is converted instead of rendered again (the same bits: its
+millimetres divided as v2 read them), then removed. The cache directory is
+``$OBJSEARCH_CACHE``, else ``~/.cache/objsearch``, or what the caller passes.
 
-Integrity: ``meta.json`` records the size and sha256 of every layer file. ``open`` checks
-them all (sizes, ``.npy`` headers, digests: about 0.1 s for 150 MB with a warm page cache)
-and *rebuilds* a damaged cache, saying why on stderr, as it rebuilds a stale one; it is a
+Integrity: ``meta.json`` records the size and sha256 of the data file. ``open`` checks it
+(size, ``.npy`` header, digest: about 0.1 s for 150 MB with a warm page cache) and
+*rebuilds* a damaged cache, saying why on stderr, as it rebuilds a stale one; it is a
 cache, so rebuilding is always right. ``objsearch cache verify`` checks caches without
 opening them, ``objsearch cache clear`` removes them. Builds of one cache are serialised by
-a lock file (``.<name>.lock``, there while it is held), so concurrent builders build it once; temp folders of killed
-builds are removed when a build starts (``fileio.abandoned_temp_folders``).
+a lock file (``.<name>.lock``, there while it is held), so concurrent builders build it
+once; temp folders of killed builds are removed when a build starts
+(``fileio.abandoned_temp_folders``).
 
 Memory: a process opens each cache folder once (``open_layers``: every env of a batched
 evaluation that plays the house shares it) and lets go of it when its last user does (the
-env holds only the house in play). The env reads each step's frames from the files
-(``CacheLayers.reader``, ``pread``): nothing is mapped, so memory does not grow with the
-poses or houses visited (an env keeps the depth of its last 64 poses read: 1 MB); whole layers (``.rgb``, ``.depth``, ``.semantic``) are
-memory-mapped on first use, for gathers over many poses (training, goal poses).
+env holds only the house in play). The env reads each step's record from the file
+(``CacheLayers.reader``, one ``pread``): nothing is mapped, so memory does not grow with the
+poses or houses visited; whole layers (``.rgb``, ``.depth``, ``.semantic``) are views of the
+file memory-mapped on first use, for gathers over many poses (training, goal poses).
 
 Depth is rounded to the millimetre in both modes (``quantize_depth``), so live and cached
 observations are identical.
 
 ``PredictedCache`` is the same for a network's predictions (the env's ``observation=
-"predicted"``): ``semantic.npy`` and ``depth.npy`` predicted from the cached RGB of every
-pose by any ``Predictor`` (``objsearch.perception.inference.Predictor`` is one), in
+"predicted"``): records of semantic and depth predicted from the cached RGB of every pose
+by any ``Predictor`` (``objsearch.perception.inference.Predictor`` is one), in
 ``<cache dir>/<house_id>-<key>-pred-<predictor key>/``.
 """
 
@@ -38,27 +44,28 @@ from __future__ import annotations
 import hashlib
 import json
 import os
+import shutil
+import sys
 import weakref
 from pathlib import Path
-from typing import Callable, Protocol
+from typing import Callable, Protocol, Sequence
 
 import numpy as np
 
-from objsearch.sim.cache_folder import check_folder, ensure_folder, fill_arrays, folder_bytes
+from objsearch.sim.cache_folder import check_folder, ensure_folder, fill_arrays, folder_bytes, locked
 from objsearch.sim.camera import AGENT_CAMERA, AGENT_CAMERA_NAME, RenderSettings, check_predictor_camera
 from objsearch.sim.navgraph import NAVGRAPH_VERSION
 from objsearch.sim.renderer import HouseRenderer
 from objsearch.sim.world import World
 
-CACHE_VERSION = "cache-v2"  # v2: uint16 millimetre depth, file digests in meta.json
-PREDICTED_VERSION = "predicted-cache-v2"
+CACHE_VERSION = "cache-v3"  # v3: one record a pose in frames.npy, float32 depth; v2: a file a layer, uint16 mm
+PREDICTED_VERSION = "predicted-cache-v3"
+PREVIOUS_CACHE_VERSION, PREVIOUS_PREDICTED_VERSION = "cache-v2", "predicted-cache-v2"  # converted, not rendered again
 BATCH = 256
-LAYERS = ("rgb", "depth", "semantic")
-MAX_DEPTH_MM = np.iinfo(np.uint16).max  # 65.535 m: far beyond any house (zfar is 30 m by default)
-_MM = np.float32(
-    1000
-)  # float32(mm) / 1000 in float32 is exactly quantize_depth's value for every uint16 (a test checks
-# all 65,536), and 10x faster than a lookup table
+FRAMES = "frames"  # a cache's one data file, frames.npy
+RECORD_ORDER = ("rgb", "semantic", "depth")  # a pose's record in a house's cache (record_dtype)
+PREDICTED_ORDER = ("semantic", "depth")  # ... and in a predicted cache
+_MM = np.float32(1000)  # cache-v2's millimetres / _MM in float32: exactly quantize_depth's metres (a test checks all)
 
 
 def default_cache_dir() -> Path:
@@ -71,74 +78,36 @@ def quantize_depth(depth: np.ndarray) -> np.ndarray:
     return (np.rint(depth * 1000.0) / 1000.0).astype(np.float32)
 
 
-def depth_to_mm(depth: np.ndarray) -> np.ndarray:
-    """float32 metres -> uint16 millimetres (how caches store depth)."""
-    mm = np.rint(np.asarray(depth, np.float32) * np.float32(1000))
-    if mm.size and not (mm.min() >= 0 and mm.max() <= MAX_DEPTH_MM):
-        raise ValueError(f"depth {mm.min() / 1000}..{mm.max() / 1000} m is outside what a cache stores (0..65.535 m)")
-    return mm.astype(np.uint16)
+def millimetres_to_metres(mm: np.ndarray) -> np.ndarray:
+    """cache-v2's uint16 millimetres as the float32 metres it read them as (and
+    ``quantize_depth`` gives): what a converted cache stores."""
+    return np.divide(mm, _MM, dtype=np.float32)
 
 
-class MillimetreDepth(np.lib.mixins.NDArrayOperatorsMixin):
-    """A cache's uint16 millimetre depth that reads as float32 metres: indexing converts only
-    the frames taken (``depth[poses]``); ``np.asarray`` and arithmetic convert it all."""
-
-    dtype = np.dtype(np.float32)
-
-    def __init__(self, mm: np.ndarray):
-        self.mm = mm
-
-    shape = property(lambda self: self.mm.shape)
-    ndim = property(lambda self: self.mm.ndim)
-
-    def __len__(self) -> int:
-        return len(self.mm)
-
-    def __getitem__(self, index) -> np.ndarray:
-        return np.divide(self.mm[index], _MM, dtype=np.float32)
-
-    def __array__(self, dtype=None, copy=None):
-        metres = np.divide(self.mm, _MM, dtype=np.float32)
-        return metres if dtype is None else metres.astype(dtype)
-
-    def __array_ufunc__(self, ufunc, method, *inputs, **kwargs):
-        inputs = [np.asarray(x) if isinstance(x, MillimetreDepth) else x for x in inputs]
-        return getattr(ufunc, method)(*inputs, **kwargs)
-
-
-def cache_key(world: World, settings: RenderSettings) -> str:
+def cache_key(world: World, settings: RenderSettings, version: str = CACHE_VERSION) -> str:
     """The 16 hex digits naming a house's cache: a hash of the cache and pose-graph versions, spec hash and camera."""
-    text = json.dumps([CACHE_VERSION, NAVGRAPH_VERSION, world.spec_sha256, settings.key()])
+    text = json.dumps([version, NAVGRAPH_VERSION, world.spec_sha256, settings.key()])
     return hashlib.sha256(text.encode()).hexdigest()[:16]
 
 
-def _check_depth_range(settings: RenderSettings) -> None:
-    from objsearch.errors import UserError
-
-    if settings.zfar * 1000 > MAX_DEPTH_MM:
-        raise UserError(
-            f"zfar {settings.zfar} m: caches store depth as uint16 millimetres, up to 65.535 m; "
-            "use a smaller zfar or mode='live'"
-        )
-
-
 class CacheLayers:
-    """The layer files of one cache folder, opened once per process (``open_layers``).
+    """The frames of one cache folder, opened once per process (``open_layers``).
 
-    Two ways in: ``frame(layer, pose)`` reads one pose's frame with ``pread`` (what the env
-    does each step: nothing stays mapped, so the process's memory does not grow with the
-    poses and houses it visits), and the attributes ``rgb``, ``depth``, ``semantic``: the
-    whole layer, memory-mapped on first use (for gathers over many poses). The files
-    close, and the maps go, when the last user drops the object (it is shared: no ``close``).
+    A cache holds one file, ``frames.npy``: one record a pose with every layer of that pose
+    side by side (``record_dtype``), so one read gives a step its observations. Two ways in:
+    ``reader(names)`` reads a pose's record with one ``pread`` (what the env does each step:
+    nothing stays mapped, so the process's memory does not grow with the poses and houses
+    it visits), and the attributes ``rgb``, ``depth``, ``semantic``: the whole layer, a view
+    of the memory-mapped file made on first use (for gathers over many poses). The file
+    closes, and the map goes, when the last user drops the object (it is shared: no ``close``).
     """
 
     def __init__(self, directory: Path, meta: dict):
         self.directory = directory
         self.meta = meta
-        self._maps: dict[str, np.ndarray] = {}
-        self._depth: MillimetreDepth | None = None
+        self._map: np.ndarray | None = None
         self._num_poses = int(meta["num_poses"])
-        self._files: dict[str, tuple] = {}  # layer -> (fd, data offset, frame bytes, frame shape, dtype)
+        self._files: dict[str, tuple] = {}  # FRAMES -> (fd, data offset, record dtype)
         self._close = weakref.finalize(self, _close_files, self._files)
 
     @property
@@ -147,98 +116,91 @@ class CacheLayers:
         return self._num_poses
 
     def _layer(self, name: str) -> np.ndarray:
-        if name not in self._maps:
+        if self._map is None:
             # a plain ndarray view of the memory map: indexing it is several times faster
-            self._maps[name] = np.asarray(np.load(self.directory / f"{name}.npy", mmap_mode="r"))
-        return self._maps[name]
+            self._map = np.asarray(np.load(self.directory / f"{FRAMES}.npy", mmap_mode="r"))
+        if name not in (self._map.dtype.names or ()):
+            raise AttributeError(f"{self.directory} holds no {name!r} layer (it has {self._map.dtype.names})")
+        return self._map[name]
 
-    def _millimetres(self) -> MillimetreDepth:
-        if self._depth is None:
-            self._depth = MillimetreDepth(self._layer("depth"))
-        return self._depth
-
-    depth = property(_millimetres, doc="Depth of every pose, float32 metres (memory-mapped).")
+    depth = property(lambda self: self._layer("depth"), doc="Depth of every pose, float32 metres (memory-mapped).")
     semantic = property(lambda self: self._layer("semantic"), doc="Category ids of every pose (memory-mapped).")
+
+    def _file(self) -> tuple[int, int, np.dtype]:
+        if FRAMES not in self._files:
+            self._files[FRAMES] = _open_frames(self.directory / f"{FRAMES}.npy")
+        return self._files[FRAMES]
 
     def frame(self, name: str, pose: int) -> np.ndarray:
         """A new array holding layer ``name``'s frame of ``pose`` (``depth``: float32 metres),
         read from the file: the same values as ``getattr(self, name)[pose]``."""
-        return self.reader(name)(pose)
+        return self.reader((name,))(pose)[0]
 
-    def reader(self, name: str, recent: int = 0) -> Callable[[int], np.ndarray]:
-        """``frame(name, .)`` as a function bound to the layer's open file: what the env calls
-        each step (one ``pread``, one new array; nothing looked up per call). It holds this
-        object, so the file stays open while the function is kept.
+    def reader(self, names: Sequence[str]) -> Callable[[int], tuple]:
+        """A function of a pose giving the frames of layers ``names`` (in that order), bound
+        to the open file: what the env calls each step (one ``pread`` of the bytes of the
+        pose's record that hold them into a new buffer, the frames views of it; nothing
+        looked up per call). It holds this object, so the file stays open while it is kept."""
+        fd, offset, record = self._file()
+        missing = [n for n in names if n not in record.names]
+        if missing or not names:
+            raise ValueError(f"{self.directory} holds layers {record.names}, not {missing or 'none'}")
+        first = min(record.fields[n][1] for n in names)
+        span = np.dtype(
+            {
+                "names": list(names),
+                "formats": [record.fields[n][0] for n in names],
+                "offsets": [record.fields[n][1] - first for n in names],
+                "itemsize": max(record.fields[n][1] + record.fields[n][0].itemsize for n in names) - first,
+            }
+        )
+        size, start, stride = span.itemsize, offset + first, record.itemsize
+        num_poses, empty, preadv, names = self._num_poses, np.empty, os.preadv, tuple(names)
+        layers = self  # the file closes when the last holder of this object lets go (no cycle: not stored here)
 
-        ``recent`` (depth only): keep the metres of the last ``recent`` poses read (FIFO) and
-        give copies of them: converting millimetres costs several times a copy, and an agent
-        often comes back to a pose it has just left (about half of a random walk's steps)."""
-        if name not in self._files:
-            self._files[name] = _open_layer(self.directory / f"{name}.npy")
-        fd, offset, size, shape, dtype = self._files[name]
-        num_poses, empty, preadv, divide, float32 = self._num_poses, np.empty, os.preadv, np.divide, np.float32
-        layers = self  # the files close when the last holder of this object lets go (no cycle: not stored here)
-
-        def read(pose: int) -> np.ndarray:
+        def read(pose: int) -> tuple:
             if not 0 <= pose < num_poses:
                 raise IndexError(f"pose {pose} is out of range for {num_poses} poses ({layers.directory})")
-            out = empty(shape, dtype)
-            if preadv(fd, (out,), offset + pose * size) != size:
-                raise OSError(f"{layers.directory / name}.npy: short read (truncated?)")
-            return out
+            out = empty((), span)
+            if preadv(fd, (out,), start + pose * stride) != size:
+                raise OSError(f"{layers.directory / FRAMES}.npy: short read (truncated?)")
+            return tuple([out[name] for name in names])
 
-        if name != "depth":
-            return read
-
-        def read_metres(pose: int) -> np.ndarray:
-            if not 0 <= pose < num_poses:
-                raise IndexError(f"pose {pose} is out of range for {num_poses} poses ({layers.directory})")
-            out = empty(shape, dtype)
-            if preadv(fd, (out,), offset + pose * size) != size:
-                raise OSError(f"{layers.directory / name}.npy: short read (truncated?)")
-            # the bits of np.divide(out, _MM, dtype=float32), whose casting loop is slower
-            metres = out.astype(float32)
-            divide(metres, _MM, out=metres)
-            return metres
-
-        if recent <= 0:
-            return read_metres
-        kept: dict[int, np.ndarray] = {}  # pose -> metres, oldest first
-
-        def read_kept(pose: int) -> np.ndarray:
-            frame = kept.get(pose)
-            if frame is None:
-                frame = kept[pose] = read_metres(pose)
-                if len(kept) > recent:
-                    del kept[next(iter(kept))]
-            return frame.copy()
-
-        return read_kept
+        return read
 
     def frames(self, name: str, start: int, stop: int) -> np.ndarray:
         """A new array holding layer ``name``'s frames of poses ``start:stop`` (``depth``:
         float32 metres), read from the file: the same values as ``getattr(self, name)[start:stop]``."""
-        if name not in self._files:
-            self._files[name] = _open_layer(self.directory / f"{name}.npy")
-        fd, offset, size, shape, dtype = self._files[name]
+        fd, offset, record = self._file()
         stop = min(stop, self._num_poses)
         if not 0 <= start < stop:
             raise IndexError(f"poses {start}:{stop} are out of range for {self._num_poses} poses ({self.directory})")
-        out = np.empty((stop - start, *shape), dtype)
-        if os.preadv(fd, (out,), offset + start * size) != out.nbytes:
-            raise OSError(f"{self.directory / name}.npy: short read (truncated?)")
-        return np.divide(out, _MM, dtype=np.float32) if name == "depth" else out
+        out = np.empty(stop - start, record)
+        if os.preadv(fd, (out,), offset + start * record.itemsize) != out.nbytes:
+            raise OSError(f"{self.directory / FRAMES}.npy: short read (truncated?)")
+        return np.ascontiguousarray(out[name])
 
 
-def _open_layer(path: Path) -> tuple[int, int, int, tuple, np.dtype]:
-    """(fd, offset of the data, bytes of a frame, shape of a frame, dtype) of an ``.npy`` layer file."""
+def record_dtype(names: Sequence[str], height: int, width: int) -> np.dtype:
+    """One pose's record in ``frames.npy``: the layers ``names`` side by side in ``RECORD_ORDER``,
+    rgb uint8 (H, W, 3), semantic uint8 (H, W), depth float32 (H, W) metres (after 4 bytes a
+    pixel of uint8 layers, so it is aligned)."""
+    shapes = {
+        "rgb": (np.uint8, (height, width, 3)),
+        "semantic": (np.uint8, (height, width)),
+        "depth": (np.float32, (height, width)),
+    }
+    return np.dtype([(name, *shapes[name]) for name in RECORD_ORDER if name in names])
+
+
+def _open_frames(path: Path) -> tuple[int, int, np.dtype]:
+    """(fd, offset of the data, record dtype) of a cache's ``frames.npy``."""
     mapped = np.load(path, mmap_mode="r")  # numpy reads the header; the map goes at once, untouched
-    offset, shape, dtype, c_order = mapped.offset, mapped.shape, mapped.dtype, mapped.flags.c_contiguous
+    offset, dtype = mapped.offset, mapped.dtype
     del mapped
-    if not c_order:
-        raise ValueError(f"{path} is not stored in C order, as caches are written; rebuild it")
-    size = int(np.prod(shape[1:])) * dtype.itemsize
-    return os.open(path, os.O_RDONLY | getattr(os, "O_CLOEXEC", 0)), offset, size, tuple(shape[1:]), dtype
+    if dtype.names is None:
+        raise ValueError(f"{path} holds no records of layers, as caches are written; rebuild it")
+    return os.open(path, os.O_RDONLY | getattr(os, "O_CLOEXEC", 0)), offset, dtype
 
 
 def _close_files(files: dict) -> None:
@@ -279,40 +241,91 @@ class HouseCache(CacheLayers):
         cache_dir: str | Path | None = None,
         progress: bool = True,
     ) -> "HouseCache":
-        """Open the house's cache, building (or rebuilding) it if missing, stale or damaged."""
-        _check_depth_range(settings)
+        """Open the house's cache, building (or rebuilding) it if missing, stale or damaged
+        (from an intact cache of the previous version where there is one: no rendering)."""
         root = Path(cache_dir) if cache_dir is not None else default_cache_dir()
-        key = cache_key(world, settings)
-        directory = root / f"{world.house_id}-{key}"
-        expected = {
-            "version": CACHE_VERSION,
-            "key": key,
-            "house_id": world.house_id,
-            "spec_sha256": world.spec_sha256,
-            "navgraph": NAVGRAPH_VERSION,
-            "settings": settings.to_json(),
-            "num_poses": world.graph.num_poses,
-        }
+
+        def expected(version: str) -> dict:
+            key = cache_key(world, settings, version)
+            return {
+                "version": version,
+                "key": key,
+                "house_id": world.house_id,
+                "spec_sha256": world.spec_sha256,
+                "navgraph": NAVGRAPH_VERSION,
+                "settings": settings.to_json(),
+                "num_poses": world.graph.num_poses,
+            }
+
+        new, old = expected(CACHE_VERSION), expected(PREVIOUS_CACHE_VERSION)
+        directory = root / f"{world.house_id}-{new['key']}"
         poses = world.graph.world_poses()
         n, h, w = len(poses), settings.height, settings.width
-        layers = {"rgb": (np.uint8, (n, h, w, 3)), "depth": (np.uint16, (n, h, w)), "semantic": (np.uint8, (n, h, w))}
+        layers = {FRAMES: (record_dtype(RECORD_ORDER, h, w), (n,))}
 
-        def render(tmp: Path) -> None:
+        def rendered():
             with HouseRenderer(world.model, settings) as renderer:
-                batches = ((start, renderer.render(poses[start : start + BATCH])) for start in range(0, n, BATCH))
-                fill_arrays(
-                    tmp,
-                    layers,
-                    (
-                        (start, {"rgb": f.rgb, "depth": depth_to_mm(quantize_depth(f.depth)), "semantic": f.semantic})
-                        for start, f in batches
-                    ),
-                    f"cache {world.house_id}",
-                    progress,
-                )
+                for start in range(0, n, BATCH):
+                    f = renderer.render(poses[start : start + BATCH])
+                    yield start, {"rgb": f.rgb, "depth": quantize_depth(f.depth), "semantic": f.semantic}
 
-        meta = ensure_folder(directory, expected, layers, render, f"cache {world.house_id}")
+        previous = _Previous(root / f"{world.house_id}-{old['key']}", old, RECORD_ORDER, h, w)
+        meta = ensure_folder(
+            directory,
+            new,
+            layers,
+            lambda tmp: fill_arrays(
+                tmp,
+                layers,
+                previous.batches() if previous.intact() else rendered(),
+                f"cache {world.house_id}",
+                progress,
+            ),
+            f"cache {world.house_id}",
+        )
+        previous.remove(directory)
         return open_layers(cls, directory, meta)
+
+
+class _Previous:
+    """A cache folder of the previous version (cache-v2: ``<layer>.npy`` a layer, depth in
+    uint16 millimetres) for the same house, camera and predictor: a new cache is filled from
+    it when it is intact, instead of rendering or predicting again (the same bits: depth as
+    v2 read it, ``millimetres_to_metres``), and it is removed once the new one is in place
+    (this version cannot read it)."""
+
+    def __init__(self, directory: Path, expected: dict, names: Sequence[str], height: int, width: int):
+        self.directory, self.expected, self.used = directory, expected, False
+        n = int(expected["num_poses"])
+        v2 = {"rgb": (np.uint8, (n, height, width, 3)), "depth": (np.uint16, (n, height, width))}
+        self.layers = {name: v2.get(name, (np.uint8, (n, height, width))) for name in names}
+
+    def intact(self) -> bool:
+        """Whether the folder is there and intact (its files' sizes, headers and digests)."""
+        return self.directory.is_dir() and check_folder(self.directory, self.expected, self.layers) is None
+
+    def batches(self):
+        """(first pose, {layer: frames}) of the whole folder, as a new cache is filled."""
+        self.used = True
+        arrays = {name: np.load(self.directory / f"{name}.npy", mmap_mode="r") for name in self.layers}
+        print(f"{self.directory.name}: converting {self.expected['version']} (no rendering)", file=sys.stderr)
+        for start in range(0, int(self.expected["num_poses"]), BATCH):
+            batch = {name: np.asarray(a[start : start + BATCH]) for name, a in arrays.items()}
+            yield start, {**batch, "depth": millimetres_to_metres(batch["depth"])}
+
+    def remove(self, converted: Path) -> None:
+        """Remove the folder once it was converted into ``converted`` (nothing when it was
+        not), moving there first the files that others keep beside a cache (e.g. the
+        learned agents' tables: made from the same bits, so still right)."""
+        if not self.used:
+            return
+        with locked(self.directory):
+            ours = {"meta.json", *(f"{name}.npy" for name in self.layers)}
+            for path in self.directory.iterdir():
+                if path.is_file() and path.name not in ours and not (converted / path.name).exists():
+                    os.replace(path, converted / path.name)
+            shutil.rmtree(self.directory, ignore_errors=True)
+        print(f"removed {self.directory} (converted to {CACHE_VERSION})", file=sys.stderr)
 
 
 class Predictor(Protocol):
@@ -359,27 +372,48 @@ class PredictedCache(CacheLayers):
             else f"the camera of these observations (cache key {settings.key()})",
         )
         gt = HouseCache.open(world, settings, cache_dir, progress)
+
+        def expected(version: str, observations: str) -> dict:
+            return {
+                "version": version,
+                "observations": observations,
+                "predictor": predictor.key,
+                "house_id": world.house_id,
+                "settings": settings.to_json(),
+                "num_poses": gt.num_poses,
+            }
+
         directory = gt.directory.parent / f"{gt.directory.name}-pred-{predictor.key}"
-        expected = {
-            "version": PREDICTED_VERSION,
-            "observations": gt.meta["key"],
-            "predictor": predictor.key,
-            "house_id": world.house_id,
-            "settings": settings.to_json(),
-            "num_poses": gt.num_poses,
-        }
         n, h, w = gt.num_poses, settings.height, settings.width
-        layers = {"depth": (np.uint16, (n, h, w)), "semantic": (np.uint8, (n, h, w))}
+        layers = {FRAMES: (record_dtype(PREDICTED_ORDER, h, w), (n,))}
 
-        def predict(tmp: Path) -> None:
-            def batches():
-                for start in range(0, n, BATCH):
-                    semantic, depth = predictor.predict(gt.frames("rgb", start, start + BATCH))  # not mapped: read once
-                    yield start, {"semantic": semantic, "depth": depth_to_mm(quantize_depth(depth))}
+        def predicted():
+            for start in range(0, n, BATCH):
+                semantic, depth = predictor.predict(gt.frames("rgb", start, start + BATCH))  # not mapped: read once
+                yield start, {"semantic": semantic, "depth": quantize_depth(depth)}
 
-            fill_arrays(tmp, layers, batches(), f"predict {world.house_id}", progress)
-
-        meta = ensure_folder(directory, expected, layers, predict, f"predicted cache {world.house_id}")
+        old_key = cache_key(world, settings, PREVIOUS_CACHE_VERSION)
+        previous = _Previous(
+            gt.directory.parent / f"{world.house_id}-{old_key}-pred-{predictor.key}",
+            expected(PREVIOUS_PREDICTED_VERSION, old_key),
+            PREDICTED_ORDER,
+            h,
+            w,
+        )
+        meta = ensure_folder(
+            directory,
+            expected(PREDICTED_VERSION, gt.meta["key"]),
+            layers,
+            lambda tmp: fill_arrays(
+                tmp,
+                layers,
+                previous.batches() if previous.intact() else predicted(),
+                f"predict {world.house_id}",
+                progress,
+            ),
+            f"predicted cache {world.house_id}",
+        )
+        previous.remove(directory)
         return open_layers(cls, directory, meta)
 
 
@@ -392,8 +426,7 @@ def _layers_of(meta: dict, kind: str) -> dict | None:
         n, h, w = int(meta["num_poses"]), int(meta["settings"]["height"]), int(meta["settings"]["width"])
     except (KeyError, TypeError, ValueError):
         return None
-    layers = {"depth": (np.uint16, (n, h, w)), "semantic": (np.uint8, (n, h, w))}
-    return layers if kind == "predicted" else {"rgb": (np.uint8, (n, h, w, 3)), **layers}
+    return {FRAMES: (record_dtype(PREDICTED_ORDER if kind == "predicted" else RECORD_ORDER, h, w), (n,))}
 
 
 def cache_folders(root: Path, digests: bool = False) -> list[dict]:

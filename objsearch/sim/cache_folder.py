@@ -201,8 +201,10 @@ def _home_short(path: Path) -> str:
 
 def fill_arrays(folder: Path, layers: dict, batches, desc: str, progress: bool) -> None:
     """Create ``<name>.npy`` memory maps of ``layers`` ({name: (dtype, shape)}) in ``folder``
-    and fill them from ``batches`` of (first pose, {name: values}). The files' space is
-    reserved first: a full disk is an ``OSError`` here, not a SIGBUS while filling."""
+    and fill them from ``batches`` of (first pose, {field: values}): a field is a layer's
+    name, or a field of a layer's record dtype (every layer with records is filled from
+    the batches' values of its fields). The files' space is reserved first: a full disk is
+    an ``OSError`` here, not a SIGBUS while filling."""
     arrays = {
         name: np.lib.format.open_memmap(folder / f"{name}.npy", mode="w+", dtype=dtype, shape=shape)
         for name, (dtype, shape) in layers.items()
@@ -210,11 +212,14 @@ def fill_arrays(folder: Path, layers: dict, batches, desc: str, progress: bool) 
     for name in arrays:
         reserve(folder / f"{name}.npy")
     total = len(next(iter(arrays.values())))
+    targets = {name: array for name, array in arrays.items() if array.dtype.names is None}
+    targets.update({field: array[field] for array in arrays.values() for field in array.dtype.names or ()})
     with tqdm(total=total, desc=desc, unit="pose", disable=not progress or None) as bar:
         for start, values in batches:
             for name, value in values.items():
-                arrays[name][start : start + len(value)] = value
+                targets[name][start : start + len(value)] = value
             bar.update(len(value))
+    del targets
     for array in arrays.values():
         array.flush()
     del arrays  # close the memory maps before the files are hashed

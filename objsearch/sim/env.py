@@ -34,9 +34,6 @@ NUM_CATEGORY_IDS = max(CATEGORY_IDS.values()) + 1
 
 
 MOVES = (0, 3, 4, 5)  # the actions that translate (ahead, back, left, right); a blocked one sets ``collided``
-# Cached mode keeps the depth (metres) of the poses it last read, up to this many bytes an env
-# (64 poses at 64x64; ``CacheLayers.reader``): a copy costs a fraction of a conversion.
-RECENT_DEPTH_BYTES = 1 << 20
 
 
 class HouseEnv(gymnasium.Env):
@@ -185,7 +182,7 @@ class HouseEnv(gymnasium.Env):
         self._goals: dict[tuple, np.ndarray] = {}  # (house, target) -> goal pose ids
         self._steps_to: dict[tuple, np.ndarray] = {}  # (house, goal ids) -> steps from every pose
         self._steps_lists: dict[tuple, list] = {}  # the same as Python lists (step's info)
-        self._read = None  # cached mode: the current house's frame readers (rgb, depth, semantic)
+        self._read = None  # cached mode: pose -> the current house's (rgb, depth, semantic) frames
         self._near: dict[str, np.ndarray] = {}  # house id -> entrance_poses (starts="entrance")
         self._world: World | None = None
         self._done = True
@@ -238,9 +235,11 @@ class HouseEnv(gymnasium.Env):
         self._source_now = self._source(world)
         if self.mode == "cached":
             labels = self._labels_now = self._labels(world)
-            recent = max(1, RECENT_DEPTH_BYTES // (self.settings.width * self.settings.height * 4))
-            read_depth = labels.reader("depth", recent=recent)
-            self._read = (self._source_now.reader("rgb"), read_depth, labels.reader("semantic"))
+            if labels is self._source_now:  # one read a step gives all three
+                self._read = labels.reader(("rgb", "depth", "semantic"))
+            else:
+                read_rgb, read_labels = self._source_now.reader(("rgb",)), labels.reader(("depth", "semantic"))
+                self._read = lambda pose: read_rgb(pose) + read_labels(pose)
 
     def goal_pose_ids(self, world: World, target: str) -> np.ndarray:
         """Goal poses of ``target`` by the goal rule (renders the goal camera's cache)."""
@@ -401,13 +400,13 @@ class HouseEnv(gymnasium.Env):
         dx, dy = (col - col0) * GRID, (row - row0) * GRID
         pose = np.array((c * dx + s * dy, minus_s * dx + c * dy, TURN_HEADINGS[(h - h0) % 4]), np.float32)
         if self.mode == "cached":
-            rgb, depth, semantic = self._read
-            # read from the files, not mapped: new arrays (the caller owns what it is given,
+            # read from the file, not mapped: new arrays (the caller owns what it is given,
             # Gymnasium's contract), and memory does not grow with the poses visited
+            rgb, depth, semantic = self._read(p)
             return {
-                "rgb": rgb(p),
-                "depth": depth(p),
-                "semantic": semantic(p),
+                "rgb": rgb,
+                "depth": depth,
+                "semantic": semantic,
                 "target": self._target_id,
                 "pose": pose,
                 "collided": self._collided,

@@ -11,10 +11,19 @@ import numpy as np
 import pytest
 
 from objsearch.cli import main
+from objsearch.digests import sha256_file
 from objsearch.fileio import MARKER_TEXT, TEMP_MARKER
-from objsearch.sim.cache import HouseCache, depth_to_mm, quantize_depth
+from objsearch.sim.cache import (
+    PREVIOUS_CACHE_VERSION,
+    PREVIOUS_PREDICTED_VERSION,
+    HouseCache,
+    PredictedCache,
+    cache_key,
+    quantize_depth,
+)
 from objsearch.sim.cache_folder import check_folder
 from objsearch.sim.camera import RenderSettings
+from objsearch.sim.navgraph import NAVGRAPH_VERSION
 from objsearch.sim.renderer import HouseRenderer
 
 SMALL = RenderSettings(width=16, height=16)
@@ -51,42 +60,84 @@ def _truncate(path):
     path.write_bytes(path.read_bytes()[:1000])
 
 
-def _reheader(path):  # same size, another dtype: float16 where uint16 was
+def _reheader(path):  # same size, another dtype: int32 where float32 depth was
     data = path.read_bytes()
-    path.write_bytes(data.replace(b"'<u2'", b"'<f2'", 1))
+    path.write_bytes(data.replace(b"'<f4'", b"'<i4'", 1))
 
 
-@pytest.mark.parametrize(
-    "damage, layer",
-    [(_flip, "semantic"), (_zero, "rgb"), (_truncate, "depth"), (lambda p: p.unlink(), "rgb"), (_reheader, "depth")],
-)
-def test_damaged_cache_is_detected_and_rebuilt(small_world, built, damage, layer, capsys):
+@pytest.mark.parametrize("damage", [_flip, _zero, _truncate, lambda p: p.unlink(), _reheader])
+def test_damaged_cache_is_detected_and_rebuilt(small_world, built, damage, capsys):
     root, arrays = built
     cache = HouseCache.open(small_world, SMALL, root, progress=False)
-    damage(cache.directory / f"{layer}.npy")
+    damage(cache.directory / "frames.npy")
     problem = check_folder(cache.directory)
-    assert problem is not None and f"{layer}.npy" in problem
+    assert problem is not None and "frames.npy" in problem
     _reopen_equal(small_world, root, arrays)
     assert "rebuilding" in capsys.readouterr().err
 
 
-def test_depth_is_stored_in_millimetres_and_reads_bit_identical(small_world, built):
+def test_depth_is_stored_as_the_metres_the_env_gives(small_world, built):
     root, arrays = built
     cache = HouseCache.open(small_world, SMALL, root, progress=False)
-    assert np.load(cache.directory / "depth.npy", mmap_mode="r").dtype == np.uint16
+    assert np.load(cache.directory / "frames.npy", mmap_mode="r").dtype["depth"].base == np.float32
     poses = np.array([0, 5, len(arrays["depth"]) - 1])
     with HouseRenderer(small_world.model, SMALL) as renderer:
         live = quantize_depth(renderer.render(small_world.graph.world_poses()[poses]).depth)
     got = cache.depth[poses]
     assert got.dtype == np.float32 and np.array_equal(got, live)
-    assert np.array_equal(cache.depth[int(poses[1])], live[1]) and (cache.depth <= 1.0).shape == cache.depth.shape
-    # every millimetre value comes back as quantize_depth gives it, bit for bit
-    metres = quantize_depth(np.arange(65536, dtype=np.float64) / 1000 + 0.0002)
-    from objsearch.sim.cache import MillimetreDepth
 
-    assert np.array_equal(MillimetreDepth(depth_to_mm(metres))[:], metres)
-    with pytest.raises(ValueError, match="65.535"):
-        depth_to_mm(np.array([70.0], np.float32))
+
+def _write_v2(folder, expected: dict, layers: dict) -> None:
+    """A cache-v2 folder as that version wrote it: a .npy file a layer, depth in uint16 millimetres."""
+    folder.mkdir(parents=True)
+    for name, value in layers.items():
+        np.save(folder / f"{name}.npy", value)
+    files = {
+        f"{n}.npy": {"bytes": (folder / f"{n}.npy").stat().st_size, "sha256": sha256_file(folder / f"{n}.npy")}
+        for n in layers
+    }
+    (folder / "meta.json").write_text(json.dumps({**expected, "files": files}))
+
+
+class _Predictor:  # stands for the network: the conversion must not call it
+    key = "stubpredictor"
+
+    def predict(self, rgb):
+        raise AssertionError("a converted cache is not predicted again")
+
+
+def test_a_cache_v2_folder_is_converted_not_rendered_again(small_world, built, tmp_path, monkeypatch, capsys):
+    _, arrays = built
+    old_key = cache_key(small_world, SMALL, PREVIOUS_CACHE_VERSION)
+    mm = np.rint(arrays["depth"] * 1000).astype(np.uint16)
+    old = tmp_path / f"{small_world.house_id}-{old_key}"
+    common = {"house_id": small_world.house_id, "settings": SMALL.to_json(), "num_poses": len(mm)}
+    gt = {"version": PREVIOUS_CACHE_VERSION, "key": old_key, "spec_sha256": small_world.spec_sha256}
+    _write_v2(
+        old,
+        {**gt, "navgraph": NAVGRAPH_VERSION, **common},
+        {"rgb": arrays["rgb"], "depth": mm, "semantic": arrays["semantic"]},
+    )
+    pred = {"version": PREVIOUS_PREDICTED_VERSION, "observations": old_key, "predictor": _Predictor.key}
+    (old / "tables-v1.npz").write_bytes(b"kept beside the cache by an agent")
+    semantic = (arrays["semantic"] + 1).astype(np.uint8)
+    _write_v2(
+        tmp_path / f"{old.name}-pred-{_Predictor.key}", {**pred, **common}, {"depth": mm // 2, "semantic": semantic}
+    )
+
+    def no_rendering(*args, **kwargs):
+        raise AssertionError("a converted cache is not rendered again")
+
+    monkeypatch.setattr("objsearch.sim.cache.HouseRenderer", no_rendering)
+    cache = PredictedCache.open(small_world, SMALL, _Predictor(), tmp_path, progress=False)
+    house = HouseCache.open(small_world, SMALL, tmp_path, progress=False)
+    for name, value in arrays.items():  # the same bits as a cache rendered now
+        assert np.asarray(getattr(house, name)).tobytes() == value.tobytes(), name
+    assert np.array_equal(cache.semantic, semantic) and np.array_equal(cache.depth, quantize_depth((mm // 2) / 1000))
+    assert sorted(p.name for p in tmp_path.iterdir()) == sorted([house.directory.name, cache.directory.name])
+    assert (house.directory / "tables-v1.npz").read_bytes() == b"kept beside the cache by an agent"
+    err = capsys.readouterr().err
+    assert err.count("converting") == 2 and err.count("removed") == 2
 
 
 def test_cache_commands(small_world, tmp_path, capsys):
@@ -108,7 +159,7 @@ def test_cache_commands(small_world, tmp_path, capsys):
 
     assert main(["cache", "verify", "--cache-dir", str(root)]) == 2
     assert "objsearch cache clear" in capsys.readouterr().err
-    _flip(cache.directory / "semantic.npy")
+    _flip(cache.directory / "frames.npy")
     main(["cache", "verify", "--cache-dir", str(root)])
     assert "sha256 mismatch" in capsys.readouterr().out
 

@@ -45,7 +45,7 @@ def test_cache_build_on_ray_is_the_local_build(local_ray, small_house, small_wor
     }
     assert [line.replace("/ray/", "/local/") for line in builds["ray"]] == builds["local"]
     local, distributed = file_bytes(tmp_path / "local"), file_bytes(tmp_path / "ray")
-    assert len(local) == 4 + 3  # rgb, depth, semantic, meta; predicted depth, semantic, meta
+    assert len(local) == 2 + 2  # frames and meta of the observations; of the predictions
     assert list(distributed) == list(local)
     for name in local:
         assert distributed[name] == local[name], name

@@ -9,7 +9,13 @@ import numpy as np
 import pytest
 
 from objsearch.house.categories import CATEGORY_IDS
-from objsearch.sim.cache import _MM, CacheLayers, HouseCache
+from objsearch.sim.cache import (
+    RECORD_ORDER,
+    HouseCache,
+    millimetres_to_metres,
+    quantize_depth,
+    record_dtype,
+)
 from objsearch.sim.camera import AGENT_CAMERA
 from objsearch.sim.env import MOVES, HouseEnv, relative_pose, relative_pose_of
 from objsearch.sim.goals import GOAL_CAMERA, GoalRule, goal_poses, goal_poses_of
@@ -43,21 +49,37 @@ def test_scalar_relative_pose_matches_numpy_for_every_heading(graph):
         assert same_bits(scalar, batched[i]), (start, pose)
 
 
-def test_depth_reader_gives_the_bits_of_a_division_for_every_millimetre(tmp_path):
-    mm = np.arange(65536, dtype=np.uint16).reshape(16, 64, 64)
-    np.save(tmp_path / "depth.npy", mm)
-    np.save(tmp_path / "semantic.npy", (mm % 251).astype(np.uint8))
-    layers = CacheLayers(tmp_path, {"num_poses": len(mm)})
-    expected = np.divide(mm, _MM, dtype=np.float32)  # what the env read before
-    plain, kept = layers.reader("depth"), layers.reader("depth", recent=3)
-    for pose in [0, 1, 2, 0, 3, 4, 1, 15, 15, 0] + list(range(16)):
-        for read in (plain, kept):
-            frame = read(pose)
-            assert same_bits(frame, expected[pose]) and same_bits(frame, layers.frame("depth", pose))
-            frame[:] = -1.0  # the caller owns what it was given: kept frames are not touched
-    assert same_bits(layers.reader("semantic")(7), (mm[7] % 251).astype(np.uint8))
+def test_reader_gives_new_frames_of_one_record(tmp_path):
+    record = record_dtype(RECORD_ORDER, 8, 8)
+    rng = np.random.default_rng(0)
+    frames = np.zeros(16, record)
+    for name in RECORD_ORDER:
+        frames[name] = rng.integers(0, 255, frames[name].shape).astype(frames[name].dtype) / (
+            1 if name != "depth" else 7
+        )
+    np.save(tmp_path / "frames.npy", frames)
+    layers = HouseCache(tmp_path, {"num_poses": len(frames)})
+    read_all, read_two = layers.reader(("rgb", "depth", "semantic")), layers.reader(("depth", "semantic"))
+    for pose in [0, 1, 15, 0, 7]:
+        got = read_all(pose)
+        for name, frame in zip(("rgb", "depth", "semantic"), got):
+            assert same_bits(frame, frames[name][pose]) and same_bits(frame, getattr(layers, name)[pose])
+            assert same_bits(frame, layers.frame(name, pose)) and same_bits(
+                frame, layers.frames(name, pose, pose + 1)[0]
+            )
+        assert all(same_bits(a, b) for a, b in zip(read_two(pose), got[1:]))
+        for frame in got:  # the caller owns what it was given: a new buffer each call
+            frame[...] = 1
+        assert same_bits(read_all(pose)[0], frames["rgb"][pose])
     with pytest.raises(IndexError):
-        plain(16)
+        read_all(16)
+    with pytest.raises(ValueError, match="holds layers"):
+        layers.reader(("normals",))
+
+
+def test_converted_millimetres_are_quantize_depths_metres_for_every_millimetre():
+    mm = np.arange(65536, dtype=np.uint16)
+    assert same_bits(millimetres_to_metres(mm), quantize_depth(mm / 1000.0))
 
 
 def test_fast_bfs_and_goal_counts_match_the_reference(graph, small_world, cache_dir):
@@ -114,7 +136,7 @@ def reference_observation(ref: dict, collided: int) -> dict:
     graph, cache, pose = ref["graph"], ref["cache"], ref["pose"]
     return {
         "rgb": np.array(cache.rgb[pose]),
-        "depth": cache.depth[pose],
+        "depth": np.array(cache.depth[pose]),
         "semantic": np.array(cache.semantic[pose]),
         "target": CATEGORY_IDS[ref["task"].target],
         "pose": relative_pose(graph, ref["start"], pose),
@@ -144,12 +166,16 @@ def reference_reset(env: HouseEnv, world, cache, task) -> dict:
 
 def assert_same_observation(got: dict, expected: dict) -> None:
     assert list(got) == list(expected)
+    arrays = [value for value in got.values() if isinstance(value, np.ndarray)]
     for key, value in expected.items():
         if isinstance(value, np.ndarray):
             assert same_bits(got[key], value), key
-            assert got[key].flags.writeable and got[key].flags.owndata, key  # a new array, the caller's
+            assert got[key].flags.writeable, key  # a new array (or a view of one), the caller's
+            assert sum(np.shares_memory(got[key], other) for other in arrays) == 1, key  # no other key's bytes
         else:
             assert type(got[key]) is type(value) and got[key] == value, key
+    for value in arrays:  # the caller may write into them: nothing the env reads again changes
+        value[...] = 0
 
 
 @pytest.mark.parametrize("stop_action", [False, True])
