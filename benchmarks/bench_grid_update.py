@@ -25,8 +25,9 @@ import torch
 import torch.nn.functional as F
 
 from objsearch_agents.core.dqn import Learner
+from objsearch_agents.core.nets import seeded_init
 from objsearch_agents.gridworld.config import GridAgentConfig
-from objsearch_agents.gridworld.nets import low_level_net, seeded_init
+from objsearch_agents.gridworld.nets import low_level_net
 from objsearch_agents.gridworld.world import flat_loss
 
 UPDATES_PER_TRANSITION = 0.1  # the paper's: one update per level every 10 transitions

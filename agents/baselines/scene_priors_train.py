@@ -16,7 +16,7 @@ import torch
 from objsearch import torchfile
 from objsearch.configs import JsonConfig, require_at_least
 from objsearch.errors import UserError
-from objsearch.fileio import atomic_write, write_csv, write_json
+from objsearch.fileio import write_csv, write_json
 from objsearch.house.categories import FIRST_OBJECT_ID
 from objsearch.perception.model import pick_device
 from objsearch.sim.camera import AGENT_CAMERA
@@ -25,7 +25,7 @@ from objsearch_agents.baselines.scene_priors_graph import prior_graph
 from objsearch_agents.baselines.scene_priors_net import ScenePriorsNet
 from objsearch_agents.core.a2c import ActorCriticLearner
 from objsearch_agents.core.nets import seeded_init
-from objsearch_agents.core.training_loop import TrainingLoop
+from objsearch_agents.core.training_loop import TrainingLoop, write_command
 from objsearch_agents.house.checkpoint import CONFIG_FILE, LOG_FILE, POLICY_FILE, STATE_FILE
 from objsearch_agents.house.policy import sample_actions
 from objsearch_agents.house.tables import HISTORY
@@ -322,16 +322,14 @@ def train(
     features = FeatureTables.of_houses(houses, predictor, cache_dir, progress)
     run = ScenePriorsRun(config, out, houses, features, predictor.key, prior_graph())
     out.mkdir(parents=True, exist_ok=True)
-    if command:
-        with atomic_write(out / "command.txt") as f:
-            f.write(command + "\n")
-    if (out / STATE_FILE).exists() and not fresh:
-        torchfile.resume(out / STATE_FILE, config, run.load_state_dict, "steps", "the state.pt of a scene_priors run")
-    else:
-        write_json(out / CONFIG_FILE, config.to_json())
-        run.begin()
-    run.interrupted = not run.run(progress=progress)
-    return run
+    write_command(out, command)
+    return run.start_or_resume(
+        out / STATE_FILE,
+        fresh,
+        progress,
+        "the state.pt of a scene_priors run",
+        lambda: write_json(out / CONFIG_FILE, config.to_json()),
+    )
 
 
 def save_policy(net: ScenePriorsNet, config: ScenePriorsConfig, perception_key: str, out: Path) -> None:

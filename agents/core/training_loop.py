@@ -5,11 +5,22 @@ Ctrl-C or SIGTERM finish the current step, write a checkpoint and return False.
 
 A trainer subclasses ``TrainingLoop`` and provides ``step``, ``log_row``, ``write_log`` and
 ``save``, a ``config`` with ``log_every`` and ``checkpoint_every``, and the few hooks below.
+What every trainer does the same way is here too: starting a run or resuming it from its
+``state.pt`` (``start_or_resume``), its ``command.txt`` (``write_command``), and for the
+Q-learning trainers the exploration schedule (``epsilon``) and the updates owed per
+transitions (``owed_updates``).
 """
 
 from __future__ import annotations
 
 import time
+from collections.abc import Callable
+from pathlib import Path
+
+import numpy as np
+
+from objsearch import torchfile
+from objsearch.fileio import atomic_write
 
 
 class TrainingLoop:
@@ -17,6 +28,8 @@ class TrainingLoop:
 
     unit = "step"
     """What ``done()`` counts, for the progress bar: ``ep`` or ``step``."""
+    budget = "steps"
+    """The config field ``goal()`` reads: the one field a resumed run may change."""
 
     def done(self) -> int:
         """Progress towards ``goal()``: episodes finished or env steps taken."""
@@ -40,6 +53,24 @@ class TrainingLoop:
 
     def set_wall_seconds(self, seconds: float) -> None:
         raise NotImplementedError
+
+    def start_or_resume(self, state: Path, fresh: bool, progress: bool, what: str, start: Callable[[], None]):
+        """Resume from the training state ``state`` (``what`` it is, for errors) unless
+        ``fresh`` or it is missing, else ``start()`` a new run (initial weights, ``config.json``)
+        and ``begin()``; then ``run``. Returns self, ``interrupted`` telling whether it was stopped."""
+        if state.exists() and not fresh:
+            torchfile.resume(state, self.config, self.load_state_dict, self.budget, what)
+        else:
+            start()
+            self.begin()
+        self.interrupted = not self.run(progress=progress)
+        return self
+
+    def epsilon(self, episode_ix: np.ndarray) -> np.ndarray:
+        """The Q-learning level's exploration rate of episodes ``episode_ix`` (fixed per episode at
+        its start): ``eps_start`` falling linearly to ``eps_end`` over ``eps_anneal_episodes``."""
+        c = self.config
+        return np.maximum(c.eps_end, c.eps_start - (c.eps_start - c.eps_end) * episode_ix / c.eps_anneal_episodes)
 
     def run(self, progress: bool = True) -> bool:
         """Train until ``goal()``, checkpointing as it goes. Returns False if interrupted (Ctrl-C
@@ -77,3 +108,18 @@ class TrainingLoop:
             finally:
                 bar.close()
             return not stop.is_set()
+
+
+def owed_updates(credit: float, transitions: int, every: int) -> tuple[int, float]:
+    """(updates, credit left) after ``transitions`` more environment transitions at one update
+    every ``every`` of them (summed over the parallel envs; the fraction carries over)."""
+    credit += transitions / every
+    updates = int(credit)
+    return updates, credit - updates
+
+
+def write_command(out: Path, command: str | None) -> None:
+    """The run folder's ``command.txt``: the command that trained it (none given: nothing)."""
+    if command:
+        with atomic_write(Path(out) / "command.txt") as f:
+            f.write(command + "\n")

@@ -118,7 +118,7 @@ class GridAgent(OneSlotBatch):
             mine.high_level,
         ):
             raise UserError(
-                f"checkpoint {path} was trained as {describe(saved)}, not {describe(mine)}; pick the matching --agent"
+                f"checkpoint {path} was trained as {saved.name}, not {mine.name}; pick the matching --agent"
             )
 
     # -- the protocol (one episode, or N in lockstep: the same code, OneSlotBatch) -----------
@@ -197,10 +197,3 @@ class GridAgent(OneSlotBatch):
             "interrupted": run.interrupted,
             "wall_s": run.counters["wall_s"],
         }
-
-
-def describe(config: GridAgentConfig) -> str:
-    """The agent name of the method and ablation ``config`` trains."""
-    from objsearch_agents.methods import method_of
-
-    return method_of(config.method).agent_name(config)

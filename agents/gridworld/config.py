@@ -7,16 +7,19 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-from objsearch.configs import JsonConfig, require_at_least
 from objsearch.errors import UserError
+from objsearch_agents.core.config import AgentConfig
 
 METHODS = ("dqn", "hdqn", "hrl_grg")
 STARTS = ("curriculum", "visible")
 
 
 @dataclass(frozen=True)
-class GridAgentConfig(JsonConfig):
-    """Serialised, read and overridden (``--set``) through ``objsearch.configs.JsonConfig``."""
+class GridAgentConfig(AgentConfig):
+    """Serialised, read and overridden (``--set``) through ``objsearch.configs.JsonConfig``;
+    checked and named through ``core.config.AgentConfig``."""
+
+    METHODS = METHODS
 
     DESCRIPTION = "a grid-world agent config"
     LEGACY_KEYS = {}  # no field has been renamed or removed since the first checkpoints
@@ -84,32 +87,20 @@ class GridAgentConfig(JsonConfig):
     log_every: int = 1_000
     """Append a row to ``log.csv`` every this many finished episodes."""
 
-    def __post_init__(self):
-        if self.method not in METHODS:
-            raise UserError(f"method must be one of {METHODS}, not {self.method!r}")
+    AT_LEAST_ONE = (
+        "num_envs",
+        "max_steps",
+        "option_steps",
+        "batch_size",
+        "replay_size",
+        "update_every",
+        "target_update",
+        "eps_anneal_episodes",
+        "curriculum_episodes",
+        "checkpoint_every",
+        "log_every",
+    )
+
+    def check(self) -> None:
         if self.starts not in STARTS:
             raise UserError(f"starts must be one of {STARTS}, not {self.starts!r}")
-        require_at_least(
-            self,
-            (
-                "num_envs",
-                "max_steps",
-                "option_steps",
-                "batch_size",
-                "replay_size",
-                "update_every",
-                "target_update",
-                "eps_anneal_episodes",
-                "curriculum_episodes",
-                "checkpoint_every",
-                "log_every",
-            ),
-            1,
-        )
-
-    @property
-    def hierarchical(self) -> bool:
-        """Whether the method chooses sub-goals for a low level (h-DQN, HRL-GRG)."""
-        from objsearch_agents.methods import method_of
-
-        return method_of(self.method).hierarchical

@@ -42,13 +42,13 @@ import numpy as np
 import torch
 
 from objsearch import torchfile
-from objsearch.fileio import atomic_write, write_csv
+from objsearch.fileio import write_csv
 from objsearch.gridworld.batched import HALF, BatchedGridWorld, GridTables
 from objsearch.gridworld.maps import GridMap
 from objsearch.gridworld.tasks import SEEN_GOALS
 from objsearch_agents.core.dqn import Learner
 from objsearch_agents.core.replay import ReplayBuffer
-from objsearch_agents.core.training_loop import TrainingLoop
+from objsearch_agents.core.training_loop import TrainingLoop, owed_updates, write_command
 from objsearch_agents.gridworld.checkpoint import CONFIG_FILE, LOG_FILE, STATE_FILE, load_policy_file, save_policy
 from objsearch_agents.gridworld.config import GridAgentConfig
 from objsearch_agents.gridworld.policy import GridPolicy, goal_input, goals_under_agent
@@ -143,11 +143,7 @@ class TrainRun(TrainingLoop):
         self.rows: list[dict] = []
         self.obs = None
 
-    # -- episodes -----------------------------------------------------------------------
-    def epsilon(self, episode_ix: np.ndarray) -> np.ndarray:
-        c = self.config
-        return np.maximum(c.eps_end, c.eps_start - (c.eps_start - c.eps_end) * episode_ix / c.eps_anneal_episodes)
-
+    # -- episodes (their exploration rate: TrainingLoop.epsilon) ---------------------------------
     def _start_episodes(self, env_ids: np.ndarray) -> None:
         k = len(env_ids)
         ix = self.counters["started"] + np.arange(k)
@@ -221,9 +217,7 @@ class TrainRun(TrainingLoop):
         c, k = self.config, self.counters
         before = k["env_steps"]
         k["env_steps"] += transitions
-        k["credit"] += transitions / c.update_every
-        updates = int(k["credit"])
-        k["credit"] -= updates
+        updates, k["credit"] = owed_updates(k["credit"], transitions, c.update_every)
         for _ in range(updates):
             did = False
             if len(self.low_replay) >= max(c.learning_starts, c.batch_size):
@@ -310,6 +304,7 @@ class TrainRun(TrainingLoop):
 
     # -- the loop (training_loop.TrainingLoop.run) ----------------------------------------------
     unit = "ep"
+    budget = "episodes"
 
     def done(self) -> int:
         return self.counters["finished"]
@@ -335,20 +330,15 @@ def _run_phase(
     config: GridAgentConfig, out: Path, maps, progress: bool, fresh: bool, init_low: dict | None
 ) -> TrainRun:
     run = TrainRun(config, out, maps)
-    state_path = out / STATE_FILE
-    if state_path.exists() and not fresh:
-        torchfile.resume(
-            state_path, config, run.load_state_dict, "episodes", "the state.pt of a grid-world training run"
-        )
-    else:
+
+    def start() -> None:
         if init_low is not None:
             run.policy.low.load_state_dict(init_low)
             run.low.sync_target()
         out.mkdir(parents=True, exist_ok=True)
         config.save(out / CONFIG_FILE)
-        run.begin()
-    run.interrupted = not run.run(progress=progress)
-    return run
+
+    return run.start_or_resume(out / STATE_FILE, fresh, progress, "the state.pt of a grid-world training run", start)
 
 
 def train(
@@ -368,9 +358,7 @@ def train(
 
         maps = list(train_maps().values())
     out.mkdir(parents=True, exist_ok=True)
-    if command:
-        with atomic_write(out / "command.txt") as f:
-            f.write(command + "\n")
+    write_command(out, command)
     init_low = None
     if config.pretrained:
         init_low = load_policy_file(Path(config.pretrained))["low"]

@@ -6,14 +6,15 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-from objsearch.configs import JsonConfig, require_at_least
 from objsearch.errors import UserError
+from objsearch_agents.core.config import AgentConfig
 from objsearch_agents.methods import METHODS
 
 
 @dataclass(frozen=True)
-class HouseAgentConfig(JsonConfig):
-    """Serialised, read and overridden (``--set``) through ``objsearch.configs.JsonConfig``."""
+class HouseAgentConfig(AgentConfig):
+    """Serialised, read and overridden (``--set``) through ``objsearch.configs.JsonConfig``;
+    checked and named through ``core.config.AgentConfig``."""
 
     DESCRIPTION = "a house agent config"
     LEGACY_KEYS = {}  # no field has been renamed or removed (files from before ``explorer`` lack it: its default)
@@ -105,9 +106,26 @@ class HouseAgentConfig(JsonConfig):
     log_every: int = 100_000
     """Append a row to ``log.csv`` every this many environment steps."""
 
-    def __post_init__(self):
-        if self.method not in METHODS:
-            raise UserError(f"method must be one of {METHODS}, not {self.method!r}")
+    METHODS = METHODS
+    AT_LEAST_ONE = (
+        "num_envs",
+        "max_steps",
+        "option_steps",
+        "batch_size",
+        "replay_size",
+        "update_every",
+        "target_update",
+        "rollout",
+        "eps_anneal_episodes",
+        "curriculum_episodes",
+        "min_start_steps",
+        "max_start_steps",
+        "plan_every",
+        "checkpoint_every",
+        "log_every",
+    )
+
+    def check(self) -> None:
         if self.observation not in ("gt", "predicted"):
             raise UserError(f"observation must be gt or predicted, not {self.observation!r}")
         for flag in ("explorer", "explorer_target", "train_low"):
@@ -124,39 +142,9 @@ class HouseAgentConfig(JsonConfig):
                 f"min_start_steps={self.min_start_steps} is above max_start_steps={self.max_start_steps}: no search "
                 "episode could start; lower the first or raise the second"
             )
-        require_at_least(
-            self,
-            (
-                "num_envs",
-                "max_steps",
-                "option_steps",
-                "batch_size",
-                "replay_size",
-                "update_every",
-                "target_update",
-                "rollout",
-                "eps_anneal_episodes",
-                "curriculum_episodes",
-                "min_start_steps",
-                "max_start_steps",
-                "plan_every",
-                "checkpoint_every",
-                "log_every",
-            ),
-            1,
-        )
-
-    @property
-    def hierarchical(self) -> bool:
-        """Whether the method chooses sub-goals for a low level (h-DQN, HRL-GRG)."""
-        from objsearch_agents.methods import method_of
-
-        return method_of(self.method).hierarchical
 
     @property
     def name(self) -> str:
         """The agent name this config trains (``hrl_grg_no_relation`` for an ablation,
         ``hrl_grg_explorer``/``hdqn_explorer`` with an ``explorer``: our extension, not the paper's method)."""
-        from objsearch_agents.methods import method_of
-
-        return method_of(self.method).agent_name(self) + ("_explorer" if self.explorer else "")
+        return super().name + ("_explorer" if self.explorer else "")

@@ -35,9 +35,9 @@ from pathlib import Path
 
 import torch
 
-from objsearch import torchfile
-from objsearch.fileio import atomic_write, write_json
+from objsearch.fileio import write_json
 from objsearch.sim.house_task import START_STEPS
+from objsearch_agents.core.training_loop import write_command
 from objsearch_agents.house.checkpoint import CONFIG_FILE, STATE_FILE, load_checkpoint_file
 from objsearch_agents.house.config import HouseAgentConfig
 from objsearch_agents.house.episodes import TrainingHouses
@@ -57,19 +57,16 @@ def _run_phase(
     init_ac: dict | None,
 ) -> HouseTrainRun:
     run = HouseTrainRun(config, out, houses, pool)
-    state_path = out / STATE_FILE
-    if state_path.exists() and not fresh:
-        torchfile.resume(state_path, config, run.load_state_dict, "steps", "the state.pt of a house training run")
-    else:
+
+    def start() -> None:
         if init_ac is not None:
             run.policy.ac.load_state_dict(init_ac)
         if run.policy.explore is not None:
             run.policy.explore.load_state_dict(load_checkpoint_file(Path(config.explorer))["ac"])
         out.mkdir(parents=True, exist_ok=True)
         write_json(out / CONFIG_FILE, config.to_json())
-        run.begin()
-    run.interrupted = not run.run(progress=progress)
-    return run
+
+    return run.start_or_resume(out / STATE_FILE, fresh, progress, "the state.pt of a house training run", start)
 
 
 def train(
@@ -90,9 +87,7 @@ def train(
             config.suite, config.observation, cache_dir, progress, config.max_start_steps, config.min_start_steps
         )
     out.mkdir(parents=True, exist_ok=True)
-    if command:
-        with atomic_write(out / "command.txt") as f:
-            f.write(command + "\n")
+    write_command(out, command)
     init_ac = None
     if method_of(config.method).actor_critic:  # pretrain it (all but DQN)
         if config.pretrained:

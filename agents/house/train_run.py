@@ -18,7 +18,7 @@ from objsearch_agents.core.a2c import ActorCriticLearner
 from objsearch_agents.core.dqn import Learner
 from objsearch_agents.core.nets import as_tensor
 from objsearch_agents.core.replay import ReplayBuffer
-from objsearch_agents.core.training_loop import TrainingLoop
+from objsearch_agents.core.training_loop import TrainingLoop, owed_updates
 from objsearch_agents.house.checkpoint import LOG_FILE, STATE_FILE, save_policy
 from objsearch_agents.house.config import HouseAgentConfig
 from objsearch_agents.house.episodes import EpisodeBatch, TrainingHouses, object_node
@@ -70,10 +70,6 @@ class HouseTrainRun(TrainingLoop):
         self.window = Window()
         self.rows: list[dict] = []
         self.interrupted = False
-
-    def epsilon(self, episode_ix: np.ndarray) -> np.ndarray:
-        c = self.config
-        return np.maximum(c.eps_end, c.eps_start - (c.eps_start - c.eps_end) * episode_ix / c.eps_anneal_episodes)
 
     def _start_episodes(self, env_ids: np.ndarray) -> None:
         ix = self.counters.started + np.arange(len(env_ids))
@@ -169,9 +165,7 @@ class HouseTrainRun(TrainingLoop):
         k.env_steps += transitions
         if self.q is None:
             return
-        k.credit += transitions / c.update_every
-        updates = int(k.credit)
-        k.credit -= updates
+        updates, k.credit = owed_updates(k.credit, transitions, c.update_every)
         if len(self.replay) < max(c.learning_starts, c.batch_size):
             return
         for _ in range(updates):

@@ -6,7 +6,8 @@ import numpy as np
 import torch
 from torch import nn
 
-from objsearch_agents.gridworld.nets import grg_high_net, low_level_net, seeded_init
+from objsearch_agents.core.nets import seeded_init
+from objsearch_agents.gridworld.nets import grg_high_net, low_level_net
 from objsearch_agents.gridworld.policy import candidate_inputs, candidates
 
 

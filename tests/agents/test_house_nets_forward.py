@@ -4,7 +4,7 @@ very numbers, and gradients, of calling the layers as modules."""
 import numpy as np
 import torch
 
-from objsearch_agents.gridworld.nets import seeded_init
+from objsearch_agents.core.nets import seeded_init
 from objsearch_agents.house.nets import ActorCritic, CandidateQ, CategoryQ, TwoStream
 from objsearch_agents.house.tables import NUM_CATEGORIES
 
