@@ -325,3 +325,16 @@ def test_a_file_past_the_size_limit_is_refused_unread(tmp_path, capsys):
     (tmp_path / "big.json").write_text('{"agent": "' + "x" * MAX_BYTES + '"}')
     code, _, err = run(capsys, "check", tmp_path / "big.json")
     assert code == 2 and "big.json is larger than the limit of 32 MiB" in one_error_line(err)
+
+
+def test_every_shipped_entry_names_a_registered_agent():
+    """``verify --all`` replays the shipped entries without ``--trust``: each names its agent
+    by a registered name or a registered ``module:Class`` (the greedy entries record
+    ``objsearch_agents.hrl_grg:HRLGRGGreedyAgent`` and the like, which must stay registered
+    targets when the agents' modules move: issue 44)."""
+    from objsearch.leaderboard.replay import untrusted_code
+
+    root = Path(__file__).resolve().parents[2] / "leaderboard" / "submissions"
+    agents = {json.loads(p.read_text())["agent"] for p in root.glob("*/*.json")}
+    assert len(agents) > 10
+    assert not {agent: untrusted_code(agent) for agent in agents if untrusted_code(agent)}
