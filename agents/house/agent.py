@@ -25,7 +25,7 @@ import numpy as np
 
 from objsearch import digests
 from objsearch.errors import UserError
-from objsearch.eval.agent import OneSlotBatch, TrainingRun
+from objsearch.eval.agent import CHECKPOINTS_ENV, OneSlotBatch, TrainingRun
 from objsearch_agents.core.rows import RowRandom
 from objsearch_agents.house.checkpoint import CONFIG_FILE, LOG_FILE, POLICY_FILE, load_policy
 from objsearch_agents.house.config import HouseAgentConfig
@@ -40,8 +40,15 @@ ROOT = CHECKPOINTS.parent.parent  # the checkout: shipped configs name their inp
 GENERALISATION_SUITES = {"house-gen-1": "house-gen", "house-gen-2": "house-gen-v2", "house-gen-3": "house-large"}
 
 
+def checkpoint_root() -> Path:
+    """Where agents find their training runs: ``$OBJSEARCH_CHECKPOINTS`` (``CHECKPOINTS_ENV``)
+    if set, else the shipped ``CHECKPOINTS``."""
+    return Path(os.environ.get(CHECKPOINTS_ENV) or CHECKPOINTS)
+
+
 def default_checkpoint(suite: str, name: str) -> Path | None:
-    path = CHECKPOINTS / suite / name / POLICY_FILE
+    """The seed-0 run of agent ``name`` for ``suite`` (its ``policy.pt``), if there is one."""
+    path = checkpoint_root() / suite / name / POLICY_FILE
     return path if path.exists() else None
 
 

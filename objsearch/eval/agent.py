@@ -90,6 +90,12 @@ class AgentTask:
     goal_rule: dict | None = None
 
 
+CHECKPOINTS_ENV = "OBJSEARCH_CHECKPOINTS"
+"""An environment variable naming a folder laid out as the agents' shipped checkpoints
+(``SUITE/AGENT[/seedK]``): learned agents then find their training runs there instead
+(``objsearch reproduce --out`` sets it for the runs it trained)."""
+
+
 @dataclass(frozen=True)
 class TrainingRun:
     """One training run of a learned agent: a checkpoint and what it cost.

@@ -44,7 +44,7 @@ def add_parser(subparsers) -> None:
         ("table", {"nargs": "?", "metavar": "TABLE", "help": "table1, table2, table3 or table4 (or 1-4)"}),
         ("--suite", {"help": "the suite (without TABLE), or one of TABLE's suites"}),
         ("--methods", {"type": names, "help": "comma-separated agents (without TABLE), or some of TABLE's"}),
-        ("--observations", {"type": names, "help": "gt and/or predicted (default: the table's; gt without TABLE)"}),
+        ("--observations", {"type": names, "help": "gt, predicted and/or predicted_trained (default: the table's; gt without TABLE)"}),
         ("--runs", {"type": positive_int, "help": "training runs per learned method (default: 3; 1 on gridworld)"}),
         ("--out", {"metavar": "DIR", "help": f"everything in DIR: DIR/checkpoints, DIR/leaderboard, results and step records (default: the shipped agents/checkpoints and leaderboard/, work files in {WORK})"}),
         ("--leaderboard", {"metavar": "DIR", "help": "the leaderboard to add to (default: ./leaderboard, DIR/leaderboard with --out)"}),

@@ -49,12 +49,12 @@ def _log_end(path: Path, column: str) -> tuple[float, float] | None:
     return float(rows[-1][column]), float(rows[-1]["wall_s"])
 
 
-def _measured_runs(plan: Plan, suite: str, agent: str, seed: int) -> list[tuple[Path, str]]:
+def _measured_runs(plan: Plan, suite: str, agent: str, seed: int, variant: str = "") -> list[tuple[Path, str]]:
     """Shipped run folders of the suite's world whose logs stand for ``agent``'s run ``seed``
-    on ``suite``, best first, and what each is."""
+    (of ``variant``) on ``suite``, best first, and what each is."""
     from objsearch.eval.suites import SUITES, suite_world
 
-    own = run_folder(plan.shipped, suite, agent, seed)
+    own = run_folder(plan.shipped, suite, agent, seed, variant)
     seeds = [run_folder(plan.shipped, suite, agent, 0), *sorted((plan.shipped / suite / agent).glob("seed*"))]
     world = suite_world(suite)
     elsewhere = [
@@ -96,7 +96,7 @@ def train_estimate(plan: Plan, step: Step) -> tuple[float | None, str]:
     )
     default = agent_config(agent, suite)
     overrides = dict(a["overrides"])
-    for folder, what in _measured_runs(plan, suite, agent, seed):
+    for folder, what in _measured_runs(plan, suite, agent, seed, a.get("variant", "")):
         config = json.loads((folder / "config.json").read_text())
         main = _log_end(folder / "log.csv", column)
         if main is None or not main[0]:

@@ -3,7 +3,10 @@ turned into steps (``Step``), each with its output and the ids of the steps it n
 
 A training run's recipe is the ``command.txt`` shipped beside its checkpoint (of its seed,
 else seed 0's with the seed changed), or the agent's default; a ``--set`` naming a file of
-another run (``pretrained``, ``explorer``) makes that run a step it needs.
+another run (``pretrained``, ``explorer``) makes that run a step it needs. A run trained on
+the perception network's predictions (observation ``predicted_trained``, the paper's setting)
+is its own run, in the ``predicted/`` folder of the agent's seed-0 run, with the recipe
+shipped there; Table 3 plans it for the methods that ship one.
 """
 
 from __future__ import annotations
@@ -23,9 +26,14 @@ TINY = {"runs": 1, "budget": {"house": 2000, "gridworld": 50}, "max_steps": 10, 
 TINY_FIELDS = {"pretrain_steps": 1000, "pretrain_episodes": 20}
 # a file of another training run named by a recipe's --set: in the shipped folders, or in runs/ as `objsearch train` names them
 RUN_FILE = (
-    re.compile(r"(?:.*/)?agents/checkpoints/(?P<suite>[^/]+)/(?P<agent>[^/]+)/(?:seed(?P<seed>\d+)/)?(?P<rest>.+)"),
+    re.compile(
+        r"(?:.*/)?agents/checkpoints/(?P<suite>[^/]+)/(?P<agent>[^/]+)/(?:seed(?P<seed>\d+)/)?"
+        r"(?:(?P<variant>predicted)/)?(?P<rest>.+)"
+    ),
     re.compile(r"runs/(?P<suite>[^/]+)/(?P<agent>[^/]+)-seed(?P<seed>\d+)/(?P<rest>.+)"),
 )
+OBSERVATIONS = ("gt", "predicted", "predicted_trained")  # predicted_trained: trained on the predictions too
+PREDICTED_RUN = "predicted"  # the folder of a run trained on predictions, in its agent's seed-0 run
 
 
 @dataclass(frozen=True)
@@ -51,7 +59,7 @@ def tables() -> dict[str, Table]:
     return {
         "table1": Table("## Table 1", ("gridworld",), grid[0], ("gt",), greedy=True),
         "table2": Table("## Table 2", ("gridworld",), grid[1], ("gt",), greedy=True),
-        "table3": Table("## Table 3", house3d, HOUSE3D_TABLE, ("gt", "predicted")),
+        "table3": Table("## Table 3", house3d, HOUSE3D_TABLE, OBSERVATIONS),
         "table4": Table("## Table 4", (ROOMS_SUITE,), TABLE4_METHODS, ("gt", "predicted"), ("random",)),
     }
 
@@ -138,9 +146,9 @@ def make_plan(args: argparse.Namespace) -> Plan:
             "--config tiny makes test-sized checkpoints and entries: pass --out DIR to keep them apart from the shipped ones"
         )
     observations = args.observations or (("gt",) if tiny else table.observations)
-    bad = [o for o in observations if o not in ("gt", "predicted")]
+    bad = [o for o in observations if o not in OBSERVATIONS]
     if bad:
-        raise UserError(f"--observations {','.join(bad)}: choose gt and/or predicted")
+        raise UserError(f"--observations {','.join(bad)}: choose some of {', '.join(OBSERVATIONS)}")
     shipped = Path(importlib.util.find_spec("objsearch_agents").submodule_search_locations[0]) / "checkpoints"
     out = Path(args.out).resolve() if args.out else None
     plan = Plan(
@@ -159,11 +167,6 @@ def make_plan(args: argparse.Namespace) -> Plan:
             raise UserError(
                 "grid-world agents are evaluated from one training run (their checkpoint folder); pass --runs 1"
             )
-        if runs > 1 and plan.checkpoints != shipped:
-            raise UserError(
-                f"--runs {runs} with --out: an evaluation finds several training runs only in the agents' own folder "
-                f"({shipped}); pass --runs 1 with --out, or reproduce into the shipped folders (no --out)"
-            )
         budget = args.train_budget or (TINY["budget"][world] if tiny else None)
         train = _Trainer(plan, world, budget, list(args.train_set), tiny)
         evals = []
@@ -173,7 +176,12 @@ def make_plan(args: argparse.Namespace) -> Plan:
             greedy = [f"{method}_greedy"] if table.greedy and f"{method}_greedy" in agents and needs else []
             for name in [method, *greedy]:
                 for observation in ("gt",) if name in GT_ONLY or is_privileged(name) else observations:
-                    evals.append(_entry_steps(plan, args, suite, name, observation, needs, base, tiny))
+                    runs_of = needs
+                    if observation == "predicted_trained":
+                        if not needs or not _recipe_file(plan.shipped, suite, base, 0, PREDICTED_RUN).is_file():
+                            continue  # no run of it on predictions is shipped: no recipe to reproduce
+                        runs_of = [train.need(suite, base, 0, PREDICTED_RUN)]
+                    evals.append(_entry_steps(plan, args, suite, name, observation, runs_of, base, tiny))
         plan.steps += train.steps + [step for steps in evals for step in steps]
     verified = [s.id for s in plan.steps if s.kind == "verify"]
     render = {
@@ -193,9 +201,10 @@ def _trainable(agent: str) -> bool:
     return agent not in TRAINING_FREE and callable(getattr(resolve_agent(agent), "train", None))
 
 
-def run_folder(root: Path, suite: str, agent: str, seed: int) -> Path:
-    """A training run's folder: ``ROOT/SUITE/AGENT`` for seed 0, ``.../seedK`` for the others."""
-    return root / suite / agent / (f"seed{seed}" if seed else "")
+def run_folder(root: Path, suite: str, agent: str, seed: int, variant: str = "") -> Path:
+    """A training run's folder: ``ROOT/SUITE/AGENT`` for seed 0, ``.../seedK`` for the others;
+    a run trained on predictions (``variant`` ``predicted``) in that folder's ``predicted/``."""
+    return root / suite / agent / (f"seed{seed}" if seed else "") / variant
 
 
 class _Trainer:
@@ -205,12 +214,12 @@ class _Trainer:
         self.plan, self.world, self.budget, self.overrides, self.tiny = plan, world, budget, overrides, tiny
         self.steps: list[Step] = []
 
-    def need(self, suite: str, agent: str, seed: int) -> str:
-        """The id of the step that trains ``agent``'s run ``seed`` on ``suite``, planned if new."""
-        name = f"{suite}/{agent}/seed{seed}"
+    def need(self, suite: str, agent: str, seed: int, variant: str = "") -> str:
+        """The id of the step that trains ``agent``'s run ``seed`` (of ``variant``) on ``suite``, planned if new."""
+        name = f"{suite}/{agent}/{variant or f'seed{seed}'}"
         if any(s.name == name for s in self.steps):
             return f"train {name}"
-        recipe, source = _recipe(self.plan.shipped, suite, agent, seed)
+        recipe, source = _recipe(self.plan.shipped, suite, agent, seed, variant)
         needs, overrides = [], {}
         for key, value in recipe.overrides:
             ref = next((m for m in (p.fullmatch(value) for p in RUN_FILE) if m), None)
@@ -218,8 +227,9 @@ class _Trainer:
             if ref and key in ("pretrained", "explorer"):
                 of = int(ref["seed"] or 0)
                 of = seed if of == recipe.seed else of
-                needs.append(self.need(ref["suite"], ref["agent"], of))
-                value = str(run_folder(self.plan.checkpoints, ref["suite"], ref["agent"], of) / ref["rest"])
+                of_variant = ref.groupdict().get("variant") or ""
+                needs.append(self.need(ref["suite"], ref["agent"], of, of_variant))
+                value = str(run_folder(self.plan.checkpoints, ref["suite"], ref["agent"], of, of_variant) / ref["rest"])
             overrides[key] = value
         if self.tiny:
             overrides |= _tiny_fields(agent, suite, self.budget)
@@ -231,14 +241,15 @@ class _Trainer:
                 if self.world == "house"
                 else {"steps": None, "episodes": self.budget}
             )
-        out = run_folder(self.plan.checkpoints, suite, agent, seed)
+        out = run_folder(self.plan.checkpoints, suite, agent, seed, variant)
         argv = (
             ["--agent", agent, "--suite", suite, "--seed", str(seed)]
             + [x for key in ("steps", "episodes") if budget[key] for x in (f"--{key}", str(budget[key]))]
             + [x for kv in overrides.items() for x in ("--set", "=".join(kv))]
             + ["--out", str(out)]
         )
-        args = {"agent": agent, "suite": suite, "seed": seed, "out": str(out), "overrides": list(overrides.items())}
+        args = {"agent": agent, "suite": suite, "seed": seed, "variant": variant, "out": str(out)}
+        args["overrides"] = list(overrides.items())
         args |= {**budget, "argv": argv, "command": "objsearch train " + shlex.join(argv), "recipe": source}
         self.steps.append(Step("train", name, needs, args))
         return f"train {name}"
@@ -252,13 +263,21 @@ class _Recipe:
     overrides: list
 
 
-def _recipe(shipped: Path, suite: str, agent: str, seed: int) -> tuple[_Recipe, str]:
-    """The shipped recipe of ``agent``'s run ``seed`` on ``suite`` (its ``command.txt``, else
-    seed 0's), and where it came from; the agent's default recipe if none is shipped."""
+def _recipe_file(shipped: Path, suite: str, agent: str, seed: int, variant: str = "") -> Path:
+    """Where the shipped recipe of a training run lies (whether or not it is there)."""
+    return run_folder(shipped, suite, agent, seed, variant) / "command.txt"
+
+
+def _recipe(shipped: Path, suite: str, agent: str, seed: int, variant: str = "") -> tuple[_Recipe, str]:
+    """The shipped recipe of ``agent``'s run ``seed`` (of ``variant``) on ``suite`` (its
+    ``command.txt``, else seed 0's), and where it came from; the agent's default recipe if
+    none is shipped."""
     from objsearch.train import add_parser as train_parser
 
-    for folder, of_seed in ((run_folder(shipped, suite, agent, seed), seed), (run_folder(shipped, suite, agent, 0), 0)):
-        command = folder / "command.txt"
+    for command, of_seed in (
+        (_recipe_file(shipped, suite, agent, seed, variant), seed),
+        (_recipe_file(shipped, suite, agent, 0, variant), 0),
+    ):
         lines = (
             [line for line in command.read_text().splitlines() if line.startswith("objsearch train")]
             if command.is_file()
@@ -297,12 +316,14 @@ def _tiny_fields(agent: str, suite: str, budget: int) -> dict:
 def _entry_steps(
     plan: Plan, args, suite: str, name: str, observation: str, needs: list, base: str, tiny: bool
 ) -> list[Step]:
-    """The eval, add and verify steps of the entry ``name`` (with ``_predicted`` for predicted observations)."""
-    from objsearch.eval.suites import make_suite, standard_seeds
-    from objsearch.leaderboard.paper import PREDICTED_SUFFIX
+    """The eval, add and verify steps of the entry ``name`` (with ``_predicted`` for predicted
+    observations, ``_predicted_trained`` for a run trained on them: its checkpoint named)."""
+    from objsearch.eval.suites import make_suite, standard_seeds, suite_world
+    from objsearch.leaderboard.paper import PREDICTED_SUFFIX, TRAINED_ON_PREDICTED_SUFFIX
 
-    entry = name + (PREDICTED_SUFFIX if observation == "predicted" else "")
-    suite_config = {"observation": observation} if observation == "predicted" else {}
+    suffix = {"predicted": PREDICTED_SUFFIX, "predicted_trained": TRAINED_ON_PREDICTED_SUFFIX}
+    entry = name + suffix.get(observation, "")
+    suite_config = {"observation": "predicted"} if observation != "gt" else {}
     max_steps = args.max_steps or (TINY["max_steps"] if tiny else None)
     if max_steps:
         suite_config["max_steps"] = max_steps
@@ -312,19 +333,28 @@ def _entry_steps(
         raise UserError(f"--splits {','.join(unknown)}: not a split of {suite} (its splits: {', '.join(available)})")
     splits = args.splits or (available[:1] if tiny else ())
     seeds = args.seeds or (standard_seeds(suite)[:1] if tiny else standard_seeds(suite))
+    # house agents find their runs under the plan's checkpoints (CHECKPOINTS_ENV, set by the step); the grid
+    # world's agents load the one run they are given
     checkpoint = (
-        None
-        if plan.checkpoints == plan.shipped or not needs
+        str(run_folder(plan.checkpoints, suite, base, 0, PREDICTED_RUN))
+        if observation == "predicted_trained"
+        else None
+        if plan.checkpoints == plan.shipped or not needs or suite_world(suite) == "house"
         else str(run_folder(plan.checkpoints, suite, base, 0) / "policy.pt")
     )
     results = plan.work / "results" / suite / f"{entry}.json"
     stored = plan.leaderboard / "submissions" / suite / f"{entry}.json"
     config = {"agent": name, "suite": suite, "splits": list(splits), "seeds": list(seeds), "checkpoint": checkpoint}
     common = {"leaderboard": str(plan.leaderboard), "results": str(results), "entry": entry, "stored": str(stored)}
+    common["checkpoints"] = None if plan.checkpoints == plan.shipped else str(plan.checkpoints)
     key = f"{suite}/{entry}"
     return [
         Step(
-            "eval", key, needs, {**config, "suite_config": suite_config, "batch": args.batch, "results": str(results)}
+            "eval",
+            key,
+            needs,
+            {**config, "suite_config": suite_config, "batch": args.batch, "results": str(results)}
+            | {"checkpoints": common["checkpoints"]},
         ),
         Step("add", key, [f"eval {key}"], common),
         Step(

@@ -4,6 +4,7 @@ train``, ``evaluate``, ``objsearch leaderboard add``, ``verify`` and ``render``.
 
 from __future__ import annotations
 
+import os
 import sys
 import time
 from pathlib import Path
@@ -119,9 +120,24 @@ def _say(line: str) -> None:
 
 
 def run_step(kind: str, args: dict, progress: bool = True, workers: int = 1) -> float:
-    """Run one step in this process (``workers``: evaluation processes); its wall seconds."""
+    """Run one step in this process (``workers``: evaluation processes); its wall seconds.
+    A step with ``checkpoints`` (a plan with ``--out``) runs with ``CHECKPOINTS_ENV`` set to
+    them, so that the agents (and evaluation workers) find the runs the plan trained."""
+    from objsearch.eval.agent import CHECKPOINTS_ENV
+
     start = time.monotonic()
-    {"train": _train, "eval": _eval, "add": _add, "verify": _verify, "render": _render}[kind](args, progress, workers)
+    before = os.environ.get(CHECKPOINTS_ENV)
+    if args.get("checkpoints"):
+        os.environ[CHECKPOINTS_ENV] = args["checkpoints"]
+    try:
+        {"train": _train, "eval": _eval, "add": _add, "verify": _verify, "render": _render}[kind](
+            args, progress, workers
+        )
+    finally:
+        if before is None:
+            os.environ.pop(CHECKPOINTS_ENV, None)
+        else:
+            os.environ[CHECKPOINTS_ENV] = before
     return time.monotonic() - start
 
 

@@ -1,7 +1,7 @@
-"""``objsearch reproduce``: Table 4 on ``rooms`` for one method (a3c, with random as the table's
-baseline) rebuilt from nothing in the test-sized configuration, locally (interrupted, then
-resumed) and with ``--executor ray`` on a local Ray cluster, with the same records; the
-dry run of Table 3; bad input."""
+"""``objsearch reproduce``: Table 4 on ``rooms`` for one method (a3c, two training runs, with
+random as the table's baseline) rebuilt from nothing in the test-sized configuration into
+``--out``, locally (interrupted, then resumed) and with ``--executor ray`` on a local Ray
+cluster, with the same records; the dry run of Table 3; bad input."""
 
 import json
 import re
@@ -11,7 +11,7 @@ import pytest
 from objsearch.cli import main
 from objsearch.leaderboard import reproduce_run
 
-TINY = ["reproduce", "table4", "--methods", "a3c", "--config", "tiny", "--quiet"]
+TINY = ["reproduce", "table4", "--methods", "a3c", "--config", "tiny", "--runs", "2", "--quiet"]
 ENTRIES = ("random", "a3c")
 
 
@@ -52,7 +52,7 @@ def reproduced(tmp_path_factory, cache_dir):
 def test_an_interrupted_reproduction_resumes_without_redoing_finished_steps(reproduced):
     out, calls = reproduced
     steps = sorted(p.stem for p in (out / "local" / "steps").glob("*.json"))
-    assert len(steps) == 8 and "train-rooms-a3c-seed0" in steps
+    assert len(steps) == 9 and {"train-rooms-a3c-seed0", "train-rooms-a3c-seed1"} <= set(steps)
     assert "train" not in calls  # trained before the interrupt: not again
     assert [a["agent"] for a in calls["eval"]] == ["a3c"]  # random's evaluation was finished
     assert [a["entry"] for a in calls["add"]] == ["random", "a3c"]
@@ -66,10 +66,15 @@ def test_tiny_table4_from_nothing_locally_and_on_ray_gives_the_same_records(repr
         assert ray["episodes"] == local["episodes"] and ray["splits"] == local["splits"]
         assert ray["config"]["weights_sha256"] == local["config"]["weights_sha256"]
     trained = entry(out / "local", "a3c")
-    assert trained["config"]["checkpoint"] == str(out / "local" / "checkpoints" / "rooms" / "a3c" / "policy.pt")
-    assert trained["config"]["weights_sha256"] and len(trained["episodes"]) == 1000
+    # both runs, found in --out's checkpoints (not the shipped ones), played on the same episodes
+    runs = {run["seed"]: run for run in trained["training_runs"]}
+    assert sorted(runs) == [0, 1] and len(trained["episodes"]) == 2 * 1000
+    assert runs[0]["weights_sha256"] != runs[1]["weights_sha256"]
+    assert all(
+        str(out / "local" / "checkpoints" / "rooms" / "a3c") in run["loaded_checkpoint"] for run in runs.values()
+    )
     tables = {executor: (out / executor / "table4.md").read_text() for executor in ("local", "ray")}
-    assert tables["local"].startswith("## Table 4") and "| A3C | gt | 1* | **" in tables["local"]
+    assert tables["local"].startswith("## Table 4") and "| A3C | gt | 2 | **" in tables["local"]
     assert tables["ray"].replace(str(out / "ray"), str(out / "local")) == tables["local"]
     assert (out / "ray" / "steps" / "train-rooms-a3c-seed0.json").is_file()
 
@@ -78,7 +83,7 @@ def test_a_finished_reproduction_runs_only_the_render_again(reproduced, capsys, 
     out, _ = reproduced
     monkeypatch.setenv("OBJSEARCH_CACHE", cache_dir)
     assert main([*TINY, "--out", str(out / "local")]) == 0
-    assert "7 done already, 1 to run" in capsys.readouterr().err
+    assert "8 done already, 1 to run" in capsys.readouterr().err
 
 
 def test_dry_run_of_table3_lists_the_training_runs_and_the_estimated_hours(capsys, tmp_path):
@@ -90,6 +95,10 @@ def test_dry_run_of_table3_lists_the_training_runs_and_the_estimated_hours(capsy
     hours = [line for line in shown.splitlines() if line.startswith("estimated time to run:")]
     assert hours and float(hours[0].split()[4]) > 1 and "hours" in hours[0]
     assert "log.csv of another seed's run (agents/checkpoints/house-single/dqn" in shown
+    # the rows trained on the predictions too: their own runs, from the recipes shipped in predicted/
+    assert "done  train house-single/a3c/predicted " in shown
+    assert "eval house-single/hrl_grg_explorer_predicted_trained" in shown
+    assert "eval house-single/dqn_predicted_trained" not in shown  # no such run is shipped: nothing to reproduce
 
 
 @pytest.mark.parametrize(
@@ -100,7 +109,6 @@ def test_dry_run_of_table3_lists_the_training_runs_and_the_estimated_hours(capsy
         (["--suite", "rooms", "--methods", "hrl-grg"], "unknown agent 'hrl-grg'; did you mean 'hrl_grg'?"),
         (["table4", "--config", "tiny"], "pass --out DIR"),
         (["table4", "--splits", "test"], "--splits test: not a split of rooms (its splits: seen-env-seen-goals"),
-        (["table4", "--out", "x", "--runs", "3"], "pass --runs 1 with --out"),
     ],
 )
 def test_bad_input_names_the_input_and_the_fix(argv, said, capsys):
