@@ -35,8 +35,10 @@ HEADLINE_AGENTS = (
     "hrl_grg_explorer",
 )
 # (title, {suite: its splits shown}, observations): the large-house tier's test split in its three
-# placements, ground truth and predictions side by side; the houses' splits of unseen goals, houses or
-# instances; the grid world's test maps. A suite's predicted column is shown once it has a predicted entry.
+# placements, ground truth and predictions in columns side by side; the houses' splits of unseen goals,
+# houses or instances, the predictions under ground truth in each cell (STACKED: 16 columns would not read);
+# the grid world's test maps. A suite's predicted column is shown once it has a predicted entry.
+STACKED = ("gt", "predicted below")
 HEADLINE_TABLES = (
     (
         "Large houses, small targets: does knowing where things go help? ([docs](docs/large_houses.md))",
@@ -51,7 +53,7 @@ HEADLINE_TABLES = (
             "house-gen": ("test-seen", "test-unseen"),
             "house-gen-v2": ("test-seen", "test-unseen"),
         },
-        ("gt",),
+        STACKED,
     ),
     ("Grid world (gridworld: 20 unseen maps)", {"gridworld": ("seen-goals", "unseen-goals", "all-goals")}, ("gt",)),
 )
@@ -65,11 +67,13 @@ def _cell(results: dict | None, split: str) -> str:
     return f"{s['sr']:.2f} / {s['spl']:.2f}" + (f" ×{runs}" if runs and runs > 1 else "")
 
 
-def _legend(shown: list[tuple[dict, dict]]) -> str:
-    """What the cells ``shown`` ((results, split summary) each) are, from themselves."""
+def _legend(shown: list[tuple[dict, dict]], stacked: bool) -> str:
+    """What the cells ``shown`` ((results, split summary) each) are, from themselves (``stacked``:
+    some cells hold predictions under ground truth)."""
     entries = [results for results, _ in shown]
+    where = " and the italic second line of a cell" if stacked else ""
     predicted = (
-        " (columns marked *predicted*: the shipped perception network's segmentation and depth from RGB)"
+        f" (columns marked *predicted*{where}: the shipped perception network's segmentation and depth from RGB)"
         if any(observation_label(r) != "gt" for r in entries)
         else ""
     )
@@ -118,7 +122,7 @@ def headline_tables(submissions: list[tuple[str, dict]]) -> str:
     """The Markdown tables of ``HEADLINE_TABLES`` for the full (ranked) ``submissions`` (name, results):
     ground truth, and beside a suite's column its predicted-observation one where the suite has a
     predicted entry (the large-house tier)."""
-    lines, shown = [], []
+    lines, shown, stacked = [], [], False
     for title, suites, observations in HEADLINE_TABLES:
         entries = _headline_entries(submissions, suites)
         present = {(suite, seen) for suite, _, seen in entries}
@@ -127,7 +131,7 @@ def headline_tables(submissions: list[tuple[str, dict]]) -> str:
             for suite, splits in suites.items()
             for split in splits
             for seen in observations
-            if seen == "gt" or (suite, seen) in present
+            if seen == "gt" or (suite, seen) in present and observations != STACKED
         ]
         rows = [agent for agent in HEADLINE_AGENTS if any(key[1] == agent for key in entries)]
         if not rows:
@@ -148,8 +152,13 @@ def headline_tables(submissions: list[tuple[str, dict]]) -> str:
             for suite, split, seen in columns:
                 results = entries.get((suite, agent, seen))
                 cells.append(_cell(results, split))
-                if results is not None and split in results["splits"]:
-                    shown.append((results, results["splits"][split]))
+                below = entries.get((suite, agent, "predicted")) if observations == STACKED else None
+                if below is not None and split in below["splits"]:
+                    cells[-1] += f"<br>*{_cell(below, split)}*"
+                    stacked = True
+                for shows in (results, below):
+                    if shows is not None and split in shows["splits"]:
+                        shown.append((shows, shows["splits"][split]))
             privileged = is_privileged(agent) or any(
                 is_privileged(results["agent"]) for (_, name, _), results in entries.items() if name == agent
             )
@@ -158,7 +167,7 @@ def headline_tables(submissions: list[tuple[str, dict]]) -> str:
         lines.append("")
     if not shown:
         return "No results are stored yet (`objsearch leaderboard add`).\n"
-    return "\n".join(lines + [_legend(shown)]) + "\n"
+    return "\n".join(lines + [_legend(shown, stacked)]) + "\n"
 
 
 def project_readme(root: str | Path) -> Path | None:

@@ -50,10 +50,12 @@ def test_the_table_shows_gt_reference_entries_and_marks_multi_run_ones():
     ]
     table = headline_tables(submissions)
     assert "| `frontier` | 1.00 / 0.53 | 0.99 / 0.66 | – |" in table
-    assert "| `a3c` | 0.88 / 0.45 ×3 | – |" in table  # its 3 runs, and its gt entry only
+    # its 3 runs on ground truth, and under them, in italics, its entry on the predictions
+    assert "| `a3c` | 0.88 / 0.45 ×3<br>*0.11 / 0.11* | – |" in table
     assert "| `hrl_grg` | 0.68 / 0.45 | – | – |" in table
     assert table.index("`frontier`") < table.index("`a3c`"), "rows in HEADLINE_AGENTS order"
-    for absent in ("0.11", "0.22", "0.33", "my_agent", "oracle` |"):
+    assert "*predicted* and the italic second line of a cell: the shipped perception network's" in table
+    for absent in ("0.22", "0.33", "my_agent", "oracle` |", "<br>*predicted*"):  # no predicted column in Houses
         assert absent not in table
     assert "100 episodes a split, each played with seeds 1, 5" in table
     assert "±0.05 to ±0.05 SR" in table
