@@ -71,7 +71,8 @@ class GridWorldAdapter:
 
     def candidate_q_loss(self, learner, batch: dict, tables, weights: np.ndarray) -> torch.Tensor:
         """HRL-GRG's high level: one Q per (obstacles, candidate channel * weight); ``weights``
-        (B, G+1): each transition's relation weights toward its goal."""
+        (G, G+1): the relation weights toward each goal (``loss_plan_values``), each transition
+        taking its goal's row."""
         weights = weights[batch["goal"]]
         nxt = batch["next_obs"]
         return candidate_double_dqn_loss(
