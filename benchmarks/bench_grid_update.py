@@ -24,7 +24,7 @@ import numpy as np
 import torch
 import torch.nn.functional as F
 
-from objsearch_agents.core.dqn import Learner
+from objsearch_agents.core.double_dqn import Learner
 from objsearch_agents.core.nets import seeded_init
 from objsearch_agents.gridworld.config import GridAgentConfig
 from objsearch_agents.gridworld.nets import low_level_net

@@ -25,7 +25,7 @@ class ActorCriticLearner:
         self.net = net
         self.optimizer = torch.optim.RMSprop(
             net.parameters(), lr=lr, alpha=alpha, eps=eps, foreach=True
-        )  # foreach: the same numbers as the per-tensor loop, fewer calls (as core.dqn.Learner)
+        )  # foreach: the same numbers as the per-tensor loop, fewer calls (as core.double_dqn.Learner)
         self.max_grad_norm, self.entropy, self.gamma = max_grad_norm, entropy, gamma
 
     def returns(self, rewards: np.ndarray, dones: np.ndarray, bootstrap: np.ndarray) -> np.ndarray:

@@ -46,7 +46,7 @@ from objsearch.fileio import write_csv
 from objsearch.gridworld.batched import HALF, BatchedGridWorld, GridTables
 from objsearch.gridworld.maps import GridMap
 from objsearch.gridworld.tasks import SEEN_GOALS
-from objsearch_agents.core.dqn import Learner
+from objsearch_agents.core.double_dqn import Learner
 from objsearch_agents.core.replay import ReplayBuffer
 from objsearch_agents.core.training_loop import TrainingLoop, owed_updates, write_command
 from objsearch_agents.gridworld.checkpoint import CONFIG_FILE, LOG_FILE, STATE_FILE, load_policy_file, save_policy

@@ -1,16 +1,16 @@
 """The grid world as the methods see it (``GridWorldAdapter``): nodes (goals ``0..G-1`` and
 the back-up "random" node ``G``), the high levels' networks, their Q-values on the
 17-channel images (obstacles, then one channel per goal) and their losses (Double DQN,
-``core.dqn``, on the grid world's inputs; ``flat_loss`` also trains the low level)."""
+``core.double_dqn``, on the grid world's inputs; ``flat_loss`` also trains the low level)."""
 
 from __future__ import annotations
 
 import numpy as np
 import torch
 
-from objsearch_agents.core.dqn import Learner, as_tensor, candidate_argmax, candidate_double_dqn_loss, double_dqn_loss
+from objsearch_agents.core.double_dqn import Learner, candidate_argmax, candidate_double_dqn_loss, double_dqn_loss
 from objsearch_agents.core.grg import GoalsRelationalGraph
-from objsearch_agents.core.nets import seeded_init
+from objsearch_agents.core.nets import as_tensor, seeded_init
 from objsearch_agents.gridworld.inputs import candidate_inputs, candidates, visible_goals
 from objsearch_agents.gridworld.nets import grg_high_net, hdqn_high_net
 
@@ -86,7 +86,7 @@ class GridWorldAdapter:
 
 
 def candidate_score(images: np.ndarray, weights: np.ndarray):
-    """``score(net, rows, nodes)``: the Q of (row, node) pairs of ``images`` (``core.dqn``)."""
+    """``score(net, rows, nodes)``: the Q of (row, node) pairs of ``images`` (``core.double_dqn``)."""
     return lambda net, rows, nodes: net(torch.from_numpy(candidate_inputs(images, weights, rows, nodes)))[:, 0]
 
 

@@ -15,7 +15,7 @@ import torch
 from objsearch import torchfile
 from objsearch.fileio import write_csv
 from objsearch_agents.core.a2c import ActorCriticLearner
-from objsearch_agents.core.dqn import Learner
+from objsearch_agents.core.double_dqn import Learner
 from objsearch_agents.core.nets import as_tensor
 from objsearch_agents.core.replay import ReplayBuffer
 from objsearch_agents.core.training_loop import TrainingLoop, owed_updates

@@ -5,7 +5,7 @@ high levels' Q-values and losses.
 Nodes (sub-goals, GRG): object categories ``0..NUM_OBJECTS-1`` (category id minus
 ``FIRST_OBJECT_ID``) and ``RANDOM`` = NUM_OBJECTS, the back-up sub-goal. Training (tables of
 every pose of a house) and evaluation (tables of the 4 frames the agent was given) build
-their inputs here, so what is trained is what is evaluated. The losses are ``core.dqn``'s
+their inputs here, so what is trained is what is evaluated. The losses are ``core.double_dqn``'s
 Double DQN on these inputs.
 """
 
@@ -15,7 +15,7 @@ import numpy as np
 import torch
 
 from objsearch.house.categories import FIRST_OBJECT_ID
-from objsearch_agents.core import dqn
+from objsearch_agents.core import double_dqn
 from objsearch_agents.core.grg import GoalsRelationalGraph
 from objsearch_agents.core.nets import as_tensor, seeded_init
 from objsearch_agents.house.episodes import object_node
@@ -70,14 +70,14 @@ def candidate_inputs(
 
 
 def candidate_score(tables: ObservationTables, hist: np.ndarray, weights: np.ndarray):
-    """``score(net, rows, nodes)``: ``CandidateQ`` of (row, node) pairs (``core.dqn``)."""
+    """``score(net, rows, nodes)``: ``CandidateQ`` of (row, node) pairs (``core.double_dqn``)."""
     return lambda net, rows, nodes: net(*candidate_inputs(tables, hist, rows, nodes, weights))
 
 
 def candidate_argmax(net, tables: ObservationTables, hist: np.ndarray, cand: np.ndarray, weights: np.ndarray):
     """argmax over each row's candidates of ``CandidateQ`` (``weights``: (N, NUM_NODES), each
     candidate's mask factor), one forward pass for all (env, candidate) pairs."""
-    return dqn.candidate_argmax(net, candidate_score(tables, hist, weights), cand)
+    return double_dqn.candidate_argmax(net, candidate_score(tables, hist, weights), cand)
 
 
 def visible_nodes(tables: ObservationTables, hist: np.ndarray) -> np.ndarray:
@@ -148,7 +148,7 @@ class HouseWorld:
     def candidate_q_loss(self, learner, batch: dict, tables, weights: np.ndarray) -> torch.Tensor:
         """Double DQN on the candidate Q (``weights``: (B, NUM_NODES), each candidate's mask factor)."""
         nxt = batch["next_hist"]
-        return dqn.candidate_double_dqn_loss(
+        return double_dqn.candidate_double_dqn_loss(
             learner,
             candidate_score(tables, batch["hist"], weights),
             candidate_score(tables, nxt, weights),
@@ -162,7 +162,7 @@ def category_q_loss(learner, batch: dict, tables, allowed=None) -> torch.Tensor:
     """Double DQN on ``CategoryQ``; ``allowed(tables, hist, targets)`` (bool (N, outputs)), if
     given, restricts the next state's argmax (h-DQN's candidates)."""
     hist, nxt, targets = batch["hist"], batch["next_hist"], batch["target"]
-    return dqn.double_dqn_loss(
+    return double_dqn.double_dqn_loss(
         learner,
         category_input(tables, hist, targets),
         batch["action"],
