@@ -49,7 +49,7 @@ LEADERBOARD_GRID_AGENTS ?= dqn hdqn hrl_grg hrl_grg_no_relation hrl_grg_no_termi
 # house agents with shipped checkpoints: suite:agent, each evaluated on gt and on predicted observations
 # (and rooms:random, so that Table 4 has every method on both observations)
 # (predictions of house-gen's and house-gen-v2's 20 evaluation houses: 20-40 minutes of one core each the first time, a cache build)
-LEADERBOARD_HOUSE ?= house-single:a3c house-single:dqn house-single:hrl_grg house-single:hdqn_explorer house-single:hrl_grg_explorer \
+LEADERBOARD_HOUSE ?= house-single:a3c house-single:dqn house-single:hdqn house-single:hrl_grg house-single:hdqn_explorer house-single:hrl_grg_explorer \
 	house-multi:a3c house-multi:dqn house-multi:hdqn house-multi:hrl_grg house-multi:hrl_grg_explorer \
 	house-gen:a3c house-gen:dqn house-gen:hrl_grg_explorer house-gen-v2:a3c house-gen-v2:hrl_grg house-gen-v2:hrl_grg_explorer \
 	house-gen-v2-shuffled:a3c house-gen-v2-shuffled:hrl_grg rooms:a3c rooms:hrl_grg rooms:scene_priors rooms:random \
