@@ -47,12 +47,13 @@ deterministic but for recovery moves, which draw from the slot's ``task.rng``.
 
 from __future__ import annotations
 
+from collections import Counter
 from dataclasses import dataclass
 
 import numpy as np
 
 from objsearch.eval.agent import AgentTask, OneSlotBatch
-from objsearch.house.categories import CATEGORY_IDS
+from objsearch.house.categories import CATEGORIES, CATEGORY_IDS, FIRST_OBJECT_ID
 from objsearch.sim.goals import GOAL_CAMERA
 from objsearch_agents.baselines.frontier_geometry import (
     CELL,
@@ -67,6 +68,7 @@ from objsearch_agents.baselines.frontier_geometry import (
     turns,
     unique_voxels,
     view_scores,
+    voxel_keys,
 )
 
 CEILING = 2.6  # metres: points higher up are the ceiling (walls are 2.7 m high)
@@ -75,6 +77,7 @@ MOVE_OFFSET = {0: 0, 4: 1, 3: 2, 5: 3}  # action -> direction relative to the he
 ACTION_FOR_OFFSET = {v: k for k, v in MOVE_OFFSET.items()}
 DIRECTION = {(int(di), int(dj)): k for k, (di, dj) in enumerate(STEPS)}
 ROTATE_LEFT, ROTATE_RIGHT = 1, 2
+CATEGORY_BY_ID = {c.id: c for c in CATEGORIES}
 
 
 @dataclass(frozen=True)
@@ -113,6 +116,24 @@ class FrontierConfig:
     """A path that runs this many cells in one direction turns to face it first."""
     stuck_steps: int = 6
     """This many steps on two poses or fewer (blocked, or turning to and fro) start a random move."""
+    stop_views: int = 1
+    """Predicted perception (depth whose floor does not lie flat): STOP once the frame passes the STOP test
+    and the target passed it from this many different cells, at the same place (``stop_match``)."""
+    stop_match: float = 0.75
+    """... the passing pixels' centres lie this close (metres, along the ground) to be the same target."""
+    stop_margin: float = 0.0
+    """Predicted perception: the STOP test's depth limit is the goal rule's less this (metres)."""
+    stop_pixels: float = 1.0
+    """Predicted perception: the STOP test asks for this many times the goal rule's target pixels."""
+    stop_share: float = 0.0
+    """Predicted perception: of the object labels that every frame so far gave the passing pixels' voxels
+    (pixels within ``vote_range``), at least this share is the target's: a thing the network reads as the
+    target from one view and as something else from others is not confirmed."""
+    vote_range: float = 2.0
+    """... labels of pixels nearer than this (metres along the ground) vote."""
+    stop_size: float = float("inf")
+    """Predicted perception: the passing pixels (5th to 95th percentile) span at most the target category's
+    largest size (``objsearch.house.categories``) plus this (metres), upwards and along the ground."""
 
 
 class SlotState:
@@ -138,6 +159,9 @@ class SlotState:
         self.recent: list[tuple[int, int, int]] = []  # the last ``stuck_steps`` poses
         self.goal = None  # the pose (map coordinates) it is heading for: kept while it stays a candidate
         self.stop_action, self.stop_test = task.stop_action, stop_test(task)
+        self.exact = False  # a frame's floor lay flat: rendered depth, and one frame passing the STOP test is enough
+        self.sightings: list[tuple[tuple[int, int], np.ndarray]] = []  # (cell, centre) of frames passing it so far
+        self.votes = (Counter(), Counter())  # voxel key -> pixels labelled the target, labelled another object
 
     # -- memory ---------------------------------------------------------------------------
     def observe_move(self, cell, heading: int, collided: int) -> None:
@@ -166,6 +190,7 @@ class SlotState:
         # scatter (predicted depth, whose error grows with range), near points block and farther ones cost
         on_floor = valid & (semantic == FLOOR)
         flat = on_floor.sum() >= 50 and np.median(np.abs(height[on_floor])) < cfg.flat_floor
+        self.exact |= bool(flat)
         block_range, soft_range = (np.inf, np.inf) if flat else (cfg.block_range, cfg.obstacle_range)
         # the cells near each point that blocks or costs, found once for both grids
         points = obstacle & (rng < max(block_range, soft_range))
@@ -199,18 +224,59 @@ class SlotState:
         self.blocked[cell[0], cell[1]] = self.soft[cell[0], cell[1]] = False  # it stands here
         self.lo = np.minimum(self.lo, [fi.min(), fj.min()])
         self.hi = np.maximum(self.hi, [fi.max(), fj.max()])
+        if not self.exact and self.stop_test is not None and cfg.stop_share > 0:
+            voting = valid & (semantic >= FIRST_OBJECT_ID) & (rng < cfg.vote_range)
+            keys = voxel_keys(x[voting], y[voting], height[voting])
+            target = semantic[voting] == self.target
+            for votes, mine in zip(self.votes, (target, ~target)):
+                k, n = np.unique(keys[mine], return_counts=True)
+                votes.update(dict(zip(k.tolist(), n.tolist())))
         hits = valid & (semantic == self.target)
         if hits.sum() >= cfg.min_target_pixels:
             vox = np.floor(np.stack([x[hits] * (CELL / VOXEL), y[hits] * (CELL / VOXEL), height[hits] / VOXEL], 1))
             self.voxels = unique_voxels(np.concatenate([self.voxels, vox.astype(np.int32)]))
 
     # -- decisions ------------------------------------------------------------------------
-    def sees_goal(self, semantic: np.ndarray, depth: np.ndarray) -> bool:
-        """Whether the frame passes the STOP test (``stop_test``: enough target pixels near)."""
+    def sees_goal(self, cell, p: dict, semantic: np.ndarray, depth: np.ndarray) -> bool:
+        """Whether to STOP: the frame passes the STOP test (``stop_test``: enough target pixels
+        near). With rendered depth (``exact``) that is all; with predicted perception the target
+        is confirmed first (an earned STOP): the test asks for ``stop_pixels`` times the pixels
+        within ``stop_margin`` less depth, and must have passed from ``stop_views`` cells on the
+        same target (the passing pixels' centres within ``stop_match``)."""
         if self.stop_test is None:
             return False
         pixels, distance = self.stop_test
-        return int(((semantic == self.target) & (depth <= distance)).sum()) >= pixels
+        cfg = self.config
+        if not self.exact:
+            pixels, distance = int(np.ceil(pixels * cfg.stop_pixels)), distance - cfg.stop_margin
+        near = (semantic == self.target) & (depth <= distance)
+        if int(near.sum()) < pixels:
+            return False
+        if self.exact or cfg.stop_views <= 1:
+            return True
+        if np.isfinite(cfg.stop_size) and not self.fits_size(p, near):
+            return False
+        if cfg.stop_share > 0:
+            keys = np.unique(voxel_keys(p["x"][near], p["y"][near], p["height"][near])).tolist()
+            mine, other = (sum(votes[k] for k in keys) for votes in self.votes)
+            if mine < cfg.stop_share * (mine + other):
+                return False
+        here = (int(cell[0]), int(cell[1]))
+        centre = np.array([p["x"][near].mean(), p["y"][near].mean()]) * CELL
+        self.sightings.append((here, centre))
+        match = cfg.stop_match**2
+        cells = {c for c, at in self.sightings if ((at - centre) ** 2).sum() <= match}
+        return len(cells) >= cfg.stop_views
+
+    def fits_size(self, p: dict, near: np.ndarray) -> bool:
+        """Whether the ``near`` pixels' points span no more than the target category can (``stop_size``)."""
+        category = CATEGORY_BY_ID.get(self.target)
+        if category is None:
+            return True
+        lo, hi = np.percentile(np.stack([p["x"][near] * CELL, p["y"][near] * CELL, p["height"][near]]), [5, 95], axis=1)
+        w, d, h = category.size_max
+        tol = self.config.stop_size
+        return bool(np.hypot(*(hi - lo)[:2]) <= np.hypot(w, d) + tol and hi[2] - lo[2] <= h + tol)
 
     def decide(self, cell, heading: int) -> int:
         """The next action: towards the best view of the target if one is known, else the
@@ -375,8 +441,9 @@ class FrontierAgent(OneSlotBatch):
             state = self._slots[i]
             state.target = int(obs[n]["target"])
             state.observe_move(cell[n], heading[n], int(obs[n]["collided"]))
-            state.update_map(cell[n], heading[n], {k: v[n] for k, v in points.items()}, np.asarray(obs[n]["semantic"]))
-            if state.sees_goal(np.asarray(obs[n]["semantic"]), np.asarray(obs[n]["depth"])):
+            frame = {k: v[n] for k, v in points.items()}
+            state.update_map(cell[n], heading[n], frame, np.asarray(obs[n]["semantic"]))
+            if state.sees_goal(cell[n], frame, np.asarray(obs[n]["semantic"]), np.asarray(obs[n]["depth"])):
                 actions[i] = state.stop_action
             else:
                 actions[i] = state.decide(cell[n], heading[n])

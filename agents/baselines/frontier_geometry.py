@@ -96,6 +96,13 @@ def unique_voxels(voxels: np.ndarray) -> np.ndarray:
     return (np.stack([keys >> 42, (keys >> 21) & mask, keys & mask], 1) - (1 << 20)).astype(np.int32)
 
 
+def voxel_keys(x: np.ndarray, y: np.ndarray, height: np.ndarray) -> np.ndarray:
+    """One int64 key per point of map coordinates ``x``, ``y`` (cells) and ``height`` (metres): its
+    ``VOXEL`` voxel, packed as ``unique_voxels`` packs them."""
+    vox = np.floor(np.stack([x * (CELL / VOXEL), y * (CELL / VOXEL), height / VOXEL], 1)).astype(np.int64) + (1 << 20)
+    return (vox[:, 0] << 42) | (vox[:, 1] << 21) | vox[:, 2]
+
+
 def column_angles(camera: dict) -> np.ndarray:
     """Each image column's ray, radians to the left of the heading."""
     u = (np.arange(camera["width"]) + 0.5 - camera["cx"]) / camera["fx"]
