@@ -1,12 +1,14 @@
 """What each rule of frontier's earned STOP buys, on predicted observations, validation splits only.
 
     OBJSEARCH_CACHE=... MUJOCO_GL=egl .venv/bin/python benchmarks/stop_rules.py \\
-        --variant "one frame:stop_views=1" --variant "two cells:stop_views=2" \\
+        --variant "one frame:stop_views=1,stop_margin=0,stop_share=0" \\
+        --variant "two cells:stop_views=2,stop_margin=0,stop_share=0" \\
         --out benchmarks/results/stop_rules.json
 
 Each ``--variant "LABEL:field=value,field=value"`` plays ``frontier`` with those
 ``FrontierConfig`` fields (``agents/baselines/frontier.py``; ``stop_views``, ``stop_match``,
-``stop_margin``, ``stop_pixels`` are the earned STOP's) on the suite's validation splits with the
+``stop_margin``, ``stop_pixels``, ``stop_share`` and ``vote_range`` are the earned STOP's; fields
+not named keep the defaults, the chosen rule) on the suite's validation splits with the
 perception network's predictions, and reports per split SR, SPL and how its failures split:
 
 * **false STOP**: the agent called STOP where the goal rule does not hold (the episode ended

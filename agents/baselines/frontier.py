@@ -36,8 +36,10 @@ Each step, for every episode of the batch:
    steps on two poses or fewer, it takes a random action from ``task.rng``.
 6. **STOP** (suites of the ObjectNav protocol, where ``task.stop_action`` is set): before
    deciding, it calls STOP when the frame shows the goal rule's ``min_pixels`` target pixels
-   (``task.goal_rule``, counted at the goal camera's resolution, scaled to the agent's) at
-   most ``max_distance`` metres deep: the rule's own test, on what it sees.
+   (``task.goal_rule``, scaled to the agent camera's resolution) at most ``max_distance``
+   metres deep. With rendered depth that is all; on predicted perception the STOP is earned:
+   ``stop_margin`` nearer, from ``stop_views`` cells, on a place that the frames read as the
+   target (``stop_share``). docs/frontier.md measures each rule on validation splits.
 
 The batched form (``act_batch``) projects every slot's frame in one array pass; planning
 is per slot, on the slot's own map. The map's geometry (projection, paths, view scores) is
@@ -53,7 +55,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from objsearch.eval.agent import AgentTask, OneSlotBatch
-from objsearch.house.categories import CATEGORIES, CATEGORY_IDS, FIRST_OBJECT_ID
+from objsearch.house.categories import CATEGORY_IDS, FIRST_OBJECT_ID
 from objsearch.sim.goals import GOAL_CAMERA
 from objsearch_agents.baselines.frontier_geometry import (
     CELL,
@@ -77,7 +79,6 @@ MOVE_OFFSET = {0: 0, 4: 1, 3: 2, 5: 3}  # action -> direction relative to the he
 ACTION_FOR_OFFSET = {v: k for k, v in MOVE_OFFSET.items()}
 DIRECTION = {(int(di), int(dj)): k for k, (di, dj) in enumerate(STEPS)}
 ROTATE_LEFT, ROTATE_RIGHT = 1, 2
-CATEGORY_BY_ID = {c.id: c for c in CATEGORIES}
 
 
 @dataclass(frozen=True)
@@ -96,8 +97,7 @@ class FrontierConfig:
     """A frame whose floor pixels lie this close to height 0 (median, metres) has exact depth: its
     obstacle points block at any range. Otherwise ``block_range`` and ``obstacle_range`` apply."""
     block_range: float = 1.5
-    """Obstacle points nearer than this (metres along the ground) block cells (predicted depth errs in
-    proportion to range, so nearer points are surer)."""
+    """Obstacle points nearer than this (metres along the ground) block cells (predicted depth errs with range)."""
     obstacle_range: float = 3.0
     """Obstacle points nearer than this and farther than ``block_range`` make cells costly to cross."""
     min_points: int = 3
@@ -116,24 +116,19 @@ class FrontierConfig:
     """A path that runs this many cells in one direction turns to face it first."""
     stuck_steps: int = 6
     """This many steps on two poses or fewer (blocked, or turning to and fro) start a random move."""
-    stop_views: int = 1
-    """Predicted perception (depth whose floor does not lie flat): STOP once the frame passes the STOP test
-    and the target passed it from this many different cells, at the same place (``stop_match``)."""
+    stop_views: int = 2
+    """Predicted perception (floor not flat): STOP once the target passed the STOP test from this many cells."""
     stop_match: float = 0.75
     """... the passing pixels' centres lie this close (metres, along the ground) to be the same target."""
-    stop_margin: float = 0.0
+    stop_margin: float = 0.15
     """Predicted perception: the STOP test's depth limit is the goal rule's less this (metres)."""
     stop_pixels: float = 1.0
     """Predicted perception: the STOP test asks for this many times the goal rule's target pixels."""
-    stop_share: float = 0.0
-    """Predicted perception: of the object labels that every frame so far gave the passing pixels' voxels
-    (pixels within ``vote_range``), at least this share is the target's: a thing the network reads as the
-    target from one view and as something else from others is not confirmed."""
+    stop_share: float = 0.6
+    """Predicted perception: at least this share of the labels all frames gave the passing pixels' voxels (pixels
+    within ``vote_range``) is the target's: a thing read as the target from one view only is not confirmed."""
     vote_range: float = 2.0
     """... labels of pixels nearer than this (metres along the ground) vote."""
-    stop_size: float = float("inf")
-    """Predicted perception: the passing pixels (5th to 95th percentile) span at most the target category's
-    largest size (``objsearch.house.categories``) plus this (metres), upwards and along the ground."""
 
 
 class SlotState:
@@ -254,8 +249,6 @@ class SlotState:
             return False
         if self.exact or cfg.stop_views <= 1:
             return True
-        if np.isfinite(cfg.stop_size) and not self.fits_size(p, near):
-            return False
         if cfg.stop_share > 0:
             keys = np.unique(voxel_keys(p["x"][near], p["y"][near], p["height"][near])).tolist()
             mine, other = (sum(votes[k] for k in keys) for votes in self.votes)
@@ -267,16 +260,6 @@ class SlotState:
         match = cfg.stop_match**2
         cells = {c for c, at in self.sightings if ((at - centre) ** 2).sum() <= match}
         return len(cells) >= cfg.stop_views
-
-    def fits_size(self, p: dict, near: np.ndarray) -> bool:
-        """Whether the ``near`` pixels' points span no more than the target category can (``stop_size``)."""
-        category = CATEGORY_BY_ID.get(self.target)
-        if category is None:
-            return True
-        lo, hi = np.percentile(np.stack([p["x"][near] * CELL, p["y"][near] * CELL, p["height"][near]]), [5, 95], axis=1)
-        w, d, h = category.size_max
-        tol = self.config.stop_size
-        return bool(np.hypot(*(hi - lo)[:2]) <= np.hypot(w, d) + tol and hi[2] - lo[2] <= h + tol)
 
     def decide(self, cell, heading: int) -> int:
         """The next action: towards the best view of the target if one is known, else the

@@ -197,6 +197,7 @@ def run_eval(args: argparse.Namespace) -> int:
     from objsearch.perception.dataset import load_split, read_manifest
     from objsearch.perception.inference import BATCH, Predictor, evaluate
     from objsearch.perception.metrics import (
+        NEAR_DISTANCE,
         QUALITY_TARGETS,
         format_table,
         format_targets,
@@ -233,6 +234,11 @@ def run_eval(args: argparse.Namespace) -> int:
         f"visibility F1 {result['visibility_f1_targets']:.3f}   10x10 map IoU {result['mask10_iou_targets']:.3f}"
     )
     print(
+        f"the ObjectNav STOP test (>= {result['visible_pixels']} pixels within {NEAR_DISTANCE:g} m by depth) on the "
+        f"predictions, target categories: precision {result['stop_precision_targets']:.3f} (frames where the "
+        f"ground truth passes it too), recall {result['stop_recall_targets']:.3f}"
+    )
+    print(
         f"network: {result['predict_frames_per_s']:.1f} frames/s (batches of {BATCH}, {predictor.device}, "
         f"{torch.get_num_threads()} torch threads; benchmarks/bench_perception.py measures it properly); "
         "target >= 150 frames/s batched on 2 CPU cores"
@@ -248,17 +254,20 @@ def run_eval(args: argparse.Namespace) -> int:
     }
     print(format_targets(result, labels))
     if args.json:
-        per_category_visibility = {
-            CATEGORY_NAMES.get(c, str(c)): {
-                **counts,
-                **{k: _json_value(v) for k, v in visibility_scores(counts).items()},
+        per_category_visibility, per_category_near = (
+            {
+                CATEGORY_NAMES.get(c, str(c)): {
+                    **counts,
+                    **{k: _json_value(v) for k, v in visibility_scores(counts).items()},
+                }
+                for c, counts in result[key].items()
             }
-            for c, counts in result["visibility"].items()
-        }
+            for key in ("visibility", "near")
+        )
         summary = {
             k: _json_value(v, None)
             for k, v in result.items()
-            if k not in ("iou", "gt_pixels", "counted", "confused_with", "visibility", "mask10_iou")
+            if k not in ("iou", "gt_pixels", "counted", "confused_with", "visibility", "near", "mask10_iou")
         }
         summary.update(
             split=args.split,
@@ -269,6 +278,7 @@ def run_eval(args: argparse.Namespace) -> int:
             targets=[CATEGORY_NAMES[c] for c in targets],
             per_category={CATEGORY_NAMES[c]: round(v, 4) for c, v in result["iou"].items()},
             visibility_per_category=per_category_visibility,
+            near_per_category=per_category_near,
             mask10_per_category={CATEGORY_NAMES[c]: _json_value(v) for c, v in result["mask10_iou"].items()},
             confused_with={
                 CATEGORY_NAMES[c]: [CATEGORY_NAMES.get(o, "?"), round(share, 4)]

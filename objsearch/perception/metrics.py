@@ -37,6 +37,12 @@ What a searching agent uses of a frame, per frame and object category:
   ground-truth pixels; ``mask10_miou`` its mean over ``counted``, ``mask10_iou_targets``
   over the suites' target categories (``target_metrics``).
 
+* near: the same detections counted only on pixels within ``NEAR_DISTANCE`` (1 m, by each
+  side's own depth): a category predicted near is the ObjectNav STOP test (``min_pixels`` 20
+  within 1 m) passing on the prediction, and ``near_precision`` the share of those frames where
+  the ground truth passes it too (one frame's STOP precision); ``near`` holds the counts,
+  ``stop_precision_targets`` / ``stop_recall_targets`` the micro scores over the suites' targets.
+
 ``target_metrics(result, ids)`` adds ``miou_targets``, ``visibility_f1_targets`` and
 ``mask10_iou_targets``; ``QUALITY_TARGETS`` are the figures a network should reach on the test houses for agents
 to search on its predictions as on ground truth, and ``format_targets`` prints a result beside them.
@@ -53,6 +59,8 @@ from objsearch.perception.model import NUM_CLASSES
 #: Pixels (of the 64 x 64 frame) a category must cover to count as visible: the agents'
 #: candidate rule ``objsearch_agents.house.tables.VISIBLE_PIXELS`` (a test checks they agree).
 VISIBLE_PIXELS = 20
+#: Metres: pixels within this count for the near detections (the ObjectNav goal rule's distance).
+NEAR_DISTANCE = 1.0
 #: Side of the block maps the agents see (the paper's 10 x 10).
 MASK_SIZE = 10
 #: The figures a network should reach on the test houses: metric -> (">=" or "<=", value).
@@ -151,6 +159,13 @@ def downsample_mask(semantic: np.ndarray, category: int, size: int = MASK_SIZE) 
     return cv2.resize(mask, (size, size), interpolation=cv2.INTER_AREA)
 
 
+def near(depth) -> np.ndarray:
+    """Pixels a depth map (metres) puts within ``NEAR_DISTANCE``: the goal rule's ``depth <= max_distance``
+    (0: no hit)."""
+    depth = np.asarray(depth)
+    return (depth > 0) & (depth <= NEAR_DISTANCE)
+
+
 def _ratio(num: float, den: float) -> float:
     return float(num / den) if den else float("nan")
 
@@ -197,12 +212,16 @@ def visibility_scores(counts: dict) -> dict:
     return {"precision": _ratio(tp, tp + fp), "recall": _ratio(tp, tp + fn), "f1": _ratio(2 * tp, 2 * tp + fp + fn)}
 
 
+def counts_over(per_category: dict, ids) -> dict:
+    """The ``{tp, fp, fn}`` counts of the category ``ids``, summed (micro-averaging)."""
+    rows = [per_category[c] for c in ids if c in per_category]
+    return {k: sum(r[k] for r in rows) for k in ("tp", "fp", "fn")}
+
+
 def visibility_over(result: dict, ids) -> float:
     """Micro-F1 of visibility over the (frame, category) pairs of the category ``ids`` (nan if
     none of them is visible in either the ground truth or the prediction)."""
-    rows = [result["visibility"][c] for c in ids if c in result["visibility"]]
-    tp, fp, fn = (sum(r[k] for r in rows) for k in ("tp", "fp", "fn"))
-    return _ratio(2 * tp, 2 * tp + fp + fn)
+    return visibility_scores(counts_over(result["visibility"], ids))["f1"]
 
 
 class MaskOverlap:
@@ -235,10 +254,14 @@ def mean_over(per_category: dict, ids) -> float:
 
 
 def target_metrics(result: dict, ids) -> dict:
-    """``miou_targets``, ``visibility_f1_targets`` and ``mask10_iou_targets`` over the category ``ids``."""
+    """``miou_targets``, ``visibility_f1_targets``, ``stop_precision_targets`` / ``stop_recall_targets``
+    and ``mask10_iou_targets`` over the category ``ids``."""
     out = {"miou_targets": miou_over(result, ids)}
     if "visibility" in result:
         out["visibility_f1_targets"] = visibility_over(result, ids)
+    if "near" in result:
+        scores = visibility_scores(counts_over(result["near"], ids))
+        out["stop_precision_targets"], out["stop_recall_targets"] = scores["precision"], scores["recall"]
     if "mask10_iou" in result:
         out["mask10_iou_targets"] = mean_over(result["mask10_iou"], ids)
     return out
@@ -251,6 +274,7 @@ class Evaluation:
         self.conf = np.zeros((num_classes, num_classes), np.int64)
         self.depth = DepthErrors(zfar)
         self.visibility = VisibilityCounts(num_classes, visible_pixels)
+        self.near = VisibilityCounts(num_classes, visible_pixels)
         self.masks = MaskOverlap(num_classes)
         self.num_classes = num_classes
         self.frames = 0
@@ -265,17 +289,25 @@ class Evaluation:
             gt_pixels = category_pixels(gt_semantic, self.num_classes)
             pred_pixels = category_pixels(pred_semantic, self.num_classes)
             self.visibility.update(gt_pixels, pred_pixels)
+            self.near.update(
+                category_pixels(np.where(near(gt_depth), gt_semantic, 0), self.num_classes),
+                category_pixels(np.where(near(pred_depth), pred_semantic, 0), self.num_classes),
+            )
             self.masks.update(gt_semantic, pred_semantic, gt_pixels, pred_pixels)
             self.frames += len(gt_semantic)
 
     def result(self) -> dict:
-        """The segmentation metrics (``segmentation_metrics``), visibility, 10 x 10 map IoUs
-        and depth errors so far, in one dict."""
+        """The segmentation metrics (``segmentation_metrics``), visibility (and within 1 m), 10 x 10
+        map IoUs and depth errors so far, in one dict."""
         seg = segmentation_metrics(self.conf)
         mask10 = self.masks.iou(seg["iou"])
+        close = self.near.result()
         return {
             **seg,
             **self.visibility.result(),
+            "near_precision": close["visibility_precision"],
+            "near_recall": close["visibility_recall"],
+            "near": close["visibility"],
             "mask10_iou": mask10,
             "mask10_miou": mean_over(mask10, seg["counted"]),
             **self.depth.result(),

@@ -93,3 +93,10 @@ def test_a_place_other_frames_read_as_another_object_is_not_confirmed():
     agent = agent_for(**config)
     agent.act(frame(0.0, 0.85, floor_error=0.05))
     assert agent.act(frame(0.25, 0.6, floor_error=0.05)) == STOP, "the same views without the tv_stand labels"
+
+
+def test_the_shipped_agent_earns_its_stop_on_predicted_depth_and_not_on_rendered_depth():
+    agent = agent_for()  # the defaults, as the leaderboard runs them
+    assert agent.act(frame(0.0, 0.8, floor_error=0.05)) != STOP, "one predicted view is not enough"
+    assert agent.act(frame(0.25, 0.55, floor_error=0.05)) == STOP, "a second cell confirms it"
+    assert agent_for().act(frame(0.0, 0.95)) == STOP, "rendered depth: the goal rule's own test, no margin"

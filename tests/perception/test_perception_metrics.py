@@ -88,3 +88,21 @@ def test_evaluation_accumulates_batches_like_one():
     a, b = whole.result(), parts.result()
     assert a["miou"] == pytest.approx(b["miou"]) and a["depth_absrel"] == pytest.approx(b["depth_absrel"])
     assert "sofa" in format_table(a) and "mIoU over 3 object categories" in format_table(a)
+
+
+def test_near_detections_score_the_stop_test_on_each_sides_own_depth():
+    """A tv the network puts within 1 m where it stands 1.5 m off is a false STOP (near false
+    positive); one within 1 m in both counts; a near one the network puts beyond 1 m is missed."""
+    from objsearch.perception.metrics import target_metrics
+
+    semantic = np.full((3, 8, 8), WALL)
+    semantic[:, 2:7, 2:7] = TV  # 25 pixels: enough for the 20-pixel rule
+    gt_depth = np.stack([np.full((8, 8), d, np.float32) for d in (1.5, 0.8, 0.8)])
+    pred_depth = np.stack([np.full((8, 8), d, np.float32) for d in (0.9, 0.7, 1.2)])
+    evaluation = Evaluation(zfar=10.0)
+    evaluation.update(semantic, semantic, gt_depth, pred_depth)
+    result = evaluation.result()
+    assert result["near"][TV] == {"tp": 1, "fp": 1, "fn": 1}
+    assert result["visibility"][TV] == {"tp": 3, "fp": 0, "fn": 0}, "beyond 1 m it is still visible"
+    scores = target_metrics(result, [TV, SOFA])
+    assert scores["stop_precision_targets"] == 0.5 and scores["stop_recall_targets"] == 0.5
