@@ -155,6 +155,7 @@ class SlotState:
         self.goal = None  # the pose (map coordinates) it is heading for: kept while it stays a candidate
         self.stop_action, self.stop_test = task.stop_action, stop_test(task)
         self.exact = False  # a frame's floor lay flat: rendered depth, and one frame passing the STOP test is enough
+        self.predicted = False  # a frame's floor scattered (and none lay flat): predicted depth, the STOP is earned
         self.sightings: list[tuple[tuple[int, int], np.ndarray]] = []  # (cell, centre) of frames passing it so far
         self.votes = (Counter(), Counter())  # voxel key -> pixels labelled the target, labelled another object
 
@@ -186,6 +187,7 @@ class SlotState:
         on_floor = valid & (semantic == FLOOR)
         flat = on_floor.sum() >= 50 and np.median(np.abs(height[on_floor])) < cfg.flat_floor
         self.exact |= bool(flat)
+        self.predicted |= bool(on_floor.sum() >= 50 and not flat)
         block_range, soft_range = (np.inf, np.inf) if flat else (cfg.block_range, cfg.obstacle_range)
         # the cells near each point that blocks or costs, found once for both grids
         points = obstacle & (rng < max(block_range, soft_range))
@@ -242,12 +244,13 @@ class SlotState:
             return False
         pixels, distance = self.stop_test
         cfg = self.config
-        if not self.exact:
+        earned = self.predicted and not self.exact  # until a frame's floor shows which, the goal rule's own test
+        if earned:
             pixels, distance = int(np.ceil(pixels * cfg.stop_pixels)), distance - cfg.stop_margin
         near = (semantic == self.target) & (depth <= distance)
         if int(near.sum()) < pixels:
             return False
-        if self.exact or cfg.stop_views <= 1:
+        if not earned or cfg.stop_views <= 1:
             return True
         if cfg.stop_share > 0:
             keys = np.unique(voxel_keys(p["x"][near], p["y"][near], p["height"][near])).tolist()

@@ -146,7 +146,14 @@ def test_target_metrics_and_accumulation_over_batches():
     assert a["visibility"] == b["visibility"] and a["visibility_f1"] == b["visibility_f1"]
     assert a["mask10_iou"] == pytest.approx(b["mask10_iou"]) and a["mask10_miou"] == pytest.approx(b["mask10_miou"])
     t = target_metrics(a, [SOFA, TV])
-    assert set(t) == {"miou_targets", "visibility_f1_targets", "mask10_iou_targets"}
+    assert set(t) == {
+        "miou_targets",
+        "visibility_f1_targets",
+        "mask10_iou_targets",
+        "stop_precision_targets",
+        "stop_recall_targets",
+    }
+    assert a["near"] == b["near"], "the near detections add up over batches too"
     assert t["miou_targets"] == pytest.approx((a["iou"][SOFA] + a["iou"][TV]) / 2)
     assert t["mask10_iou_targets"] == pytest.approx((a["mask10_iou"][SOFA] + a["mask10_iou"][TV]) / 2)
     assert t["visibility_f1_targets"] == pytest.approx(visibility_over(a, [SOFA, TV]))
