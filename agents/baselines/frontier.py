@@ -185,9 +185,10 @@ class SlotState:
         # How far to trust depth: where the floor's pixels lie flat (rendered depth), every range; where they
         # scatter (predicted depth, whose error grows with range), near points block and farther ones cost
         on_floor = valid & (semantic == FLOOR)
-        flat = on_floor.sum() >= 50 and np.median(np.abs(height[on_floor])) < cfg.flat_floor
+        shows_floor = on_floor.sum() >= 50
+        flat = shows_floor and np.median(np.abs(height[on_floor])) < cfg.flat_floor
         self.exact |= bool(flat)
-        self.predicted |= bool(on_floor.sum() >= 50 and not flat)
+        self.predicted |= bool(shows_floor and not flat)
         block_range, soft_range = (np.inf, np.inf) if flat else (cfg.block_range, cfg.obstacle_range)
         # the cells near each point that blocks or costs, found once for both grids
         points = obstacle & (rng < max(block_range, soft_range))
@@ -236,7 +237,7 @@ class SlotState:
     # -- decisions ------------------------------------------------------------------------
     def sees_goal(self, cell, p: dict, semantic: np.ndarray, depth: np.ndarray) -> bool:
         """Whether to STOP: the frame passes the STOP test (``stop_test``: enough target pixels
-        near). With rendered depth (``exact``) that is all; with predicted perception the target
+        near). Unless a frame showed predicted depth (``predicted``, never ``exact``) that is all; then the target
         is confirmed first (an earned STOP): the test asks for ``stop_pixels`` times the pixels
         within ``stop_margin`` less depth, and must have passed from ``stop_views`` cells on the
         same target (the passing pixels' centres within ``stop_match``)."""
