@@ -19,7 +19,8 @@ Each step, for every episode of the batch:
    ``soft_cost`` more to cross. Each image column is a ray of a planar scan: the cells it
    crosses before its nearest obstacle (and floor points) are seen free. A move that comes
    back ``collided`` blocks that edge.
-2. **Target.** Pixels of the target's id become points, kept in 0.1 m voxels.
+2. **Target.** Pixels of the target's id become points, kept in 0.1 m voxels
+   (``frontier_target.TargetMemory``).
 3. **Approach on sight.** With target voxels in memory, every reachable pose within
    ``approach_radius`` gets a score: the image area the voxels would cover from it
    (each voxel ``1 / depth**2``, counted when inside the camera's frustum and not hidden by
@@ -36,10 +37,8 @@ Each step, for every episode of the batch:
    steps on two poses or fewer, it takes a random action from ``task.rng``.
 6. **STOP** (suites of the ObjectNav protocol, where ``task.stop_action`` is set): before
    deciding, it calls STOP when the frame shows the goal rule's ``min_pixels`` target pixels
-   (``task.goal_rule``, scaled to the agent camera's resolution) at most ``max_distance``
-   metres deep. With rendered depth that is all; on predicted perception the STOP is earned:
-   ``stop_margin`` nearer, from ``stop_views`` cells, on a place that the frames read as the
-   target (``stop_share``). docs/frontier.md measures each rule on validation splits.
+   at most ``max_distance`` metres deep; on predicted perception the STOP is earned
+   (``frontier_target``). docs/frontier.md measures each rule on validation splits.
 
 The batched form (``act_batch``) projects every slot's frame in one array pass; planning
 is per slot, on the slot's own map. The map's geometry (projection, paths, view scores) is
@@ -49,14 +48,12 @@ deterministic but for recovery moves, which draw from the slot's ``task.rng``.
 
 from __future__ import annotations
 
-from collections import Counter
 from dataclasses import dataclass
 
 import numpy as np
 
 from objsearch.eval.agent import AgentTask, OneSlotBatch
-from objsearch.house.categories import CATEGORY_IDS, FIRST_OBJECT_ID
-from objsearch.sim.goals import GOAL_CAMERA
+from objsearch.house.categories import CATEGORY_IDS
 from objsearch_agents.baselines.frontier_geometry import (
     CELL,
     RADIUS,
@@ -68,10 +65,9 @@ from objsearch_agents.baselines.frontier_geometry import (
     neighbours,
     project,
     turns,
-    unique_voxels,
     view_scores,
-    voxel_keys,
 )
+from objsearch_agents.baselines.frontier_target import TargetMemory
 
 CEILING = 2.6  # metres: points higher up are the ceiling (walls are 2.7 m high)
 FLOOR, CEILING_ID = CATEGORY_IDS["floor"], CATEGORY_IDS["ceiling"]
@@ -138,13 +134,12 @@ class SlotState:
         self.rng, self.config = task.rng, config
         self.angles = column_angles(task.camera)
         self.camera = task.camera
-        self.target = -1
+        self.memory = TargetMemory(task, config)
         self.seen = np.zeros((SIZE, SIZE), bool)  # a ray or floor point fell in the cell
         self.blocked = np.zeros((SIZE, SIZE), bool)  # an obstacle seen near lies within block_radius of its centre
         self.soft = np.zeros((SIZE, SIZE), bool)  # ... one seen farther (less sure: paths may cross it, at a cost)
         self.top = np.zeros((SIZE, SIZE), np.float32)  # the highest point seen in the cell, below the ceiling
         self.edge = np.ones((4, SIZE, SIZE), bool)  # edge[d, i, j]: the move from (i, j) along d is not known blocked
-        self.voxels = np.zeros((0, 3), np.int32)  # target voxels (i, j, k) of VOXEL metres from the map's origin
         self.visited: set[tuple[int, int, int]] = set()  # poses stood on: none of them is a goal
         self.lo = np.array([RADIUS, RADIUS])  # bounding box of the mapped cells, inclusive
         self.hi = np.array([RADIUS, RADIUS])
@@ -153,11 +148,8 @@ class SlotState:
         self.last = None  # (cell, heading, action) of the previous step
         self.recent: list[tuple[int, int, int]] = []  # the last ``stuck_steps`` poses
         self.goal = None  # the pose (map coordinates) it is heading for: kept while it stays a candidate
-        self.stop_action, self.stop_test = task.stop_action, stop_test(task)
         self.exact = False  # a frame's floor lay flat: rendered depth, and one frame passing the STOP test is enough
         self.predicted = False  # a frame's floor scattered (and none lay flat): predicted depth, the STOP is earned
-        self.sightings: list[tuple[tuple[int, int], np.ndarray]] = []  # (cell, centre) of frames passing it so far
-        self.votes = (Counter(), Counter())  # voxel key -> pixels labelled the target, labelled another object
 
     # -- memory ---------------------------------------------------------------------------
     def observe_move(self, cell, heading: int, collided: int) -> None:
@@ -222,49 +214,20 @@ class SlotState:
         self.blocked[cell[0], cell[1]] = self.soft[cell[0], cell[1]] = False  # it stands here
         self.lo = np.minimum(self.lo, [fi.min(), fj.min()])
         self.hi = np.maximum(self.hi, [fi.max(), fj.max()])
-        if not self.exact and self.stop_test is not None and cfg.stop_share > 0:
-            voting = valid & (semantic >= FIRST_OBJECT_ID) & (rng < cfg.vote_range)
-            keys = voxel_keys(x[voting], y[voting], height[voting])
-            target = semantic[voting] == self.target
-            for votes, mine in zip(self.votes, (target, ~target)):
-                k, n = np.unique(keys[mine], return_counts=True)
-                votes.update(dict(zip(k.tolist(), n.tolist())))
-        hits = valid & (semantic == self.target)
-        if hits.sum() >= cfg.min_target_pixels:
-            vox = np.floor(np.stack([x[hits] * (CELL / VOXEL), y[hits] * (CELL / VOXEL), height[hits] / VOXEL], 1))
-            self.voxels = unique_voxels(np.concatenate([self.voxels, vox.astype(np.int32)]))
+        self.memory.add_frame(p, semantic, self.exact)
+
+    @property
+    def voxels(self) -> np.ndarray:
+        """The target voxels (i, j, k) of VOXEL metres from the map's origin that the approach goes to."""
+        return self.memory.voxels
+
+    @property
+    def earned(self) -> bool:
+        """Whether the STOP is earned: a frame's floor showed predicted depth and none rendered
+        (until a frame's floor shows which, the goal rule's own test)."""
+        return self.predicted and not self.exact
 
     # -- decisions ------------------------------------------------------------------------
-    def sees_goal(self, cell, p: dict, semantic: np.ndarray, depth: np.ndarray) -> bool:
-        """Whether to STOP: the frame passes the STOP test (``stop_test``: enough target pixels
-        near). Unless a frame showed predicted depth (``predicted``, never ``exact``) that is all; then the target
-        is confirmed first (an earned STOP): the test asks for ``stop_pixels`` times the pixels
-        within ``stop_margin`` less depth, and must have passed from ``stop_views`` cells on the
-        same target (the passing pixels' centres within ``stop_match``)."""
-        if self.stop_test is None:
-            return False
-        pixels, distance = self.stop_test
-        cfg = self.config
-        earned = self.predicted and not self.exact  # until a frame's floor shows which, the goal rule's own test
-        if earned:
-            pixels, distance = int(np.ceil(pixels * cfg.stop_pixels)), distance - cfg.stop_margin
-        near = (semantic == self.target) & (depth <= distance)
-        if int(near.sum()) < pixels:
-            return False
-        if not earned or cfg.stop_views <= 1:
-            return True
-        if cfg.stop_share > 0:
-            keys = np.unique(voxel_keys(p["x"][near], p["y"][near], p["height"][near])).tolist()
-            mine, other = (sum(votes[k] for k in keys) for votes in self.votes)
-            if mine < cfg.stop_share * (mine + other):
-                return False
-        here = (int(cell[0]), int(cell[1]))
-        centre = np.array([p["x"][near].mean(), p["y"][near].mean()]) * CELL
-        self.sightings.append((here, centre))
-        match = cfg.stop_match**2
-        cells = {c for c, at in self.sightings if ((at - centre) ** 2).sum() <= match}
-        return len(cells) >= cfg.stop_views
-
     def decide(self, cell, heading: int) -> int:
         """The next action: towards the best view of the target if one is known, else the
         nearest frontier, else a random move."""
@@ -426,25 +389,14 @@ class FrontierAgent(OneSlotBatch):
         actions = {}
         for n, i in enumerate(slots):
             state = self._slots[i]
-            state.target = int(obs[n]["target"])
+            memory = state.memory
+            memory.target = int(obs[n]["target"])
             state.observe_move(cell[n], heading[n], int(obs[n]["collided"]))
             frame = {k: v[n] for k, v in points.items()}
-            state.update_map(cell[n], heading[n], frame, np.asarray(obs[n]["semantic"]))
-            if state.sees_goal(cell[n], frame, np.asarray(obs[n]["semantic"]), np.asarray(obs[n]["depth"])):
-                actions[i] = state.stop_action
+            semantic, depth = np.asarray(obs[n]["semantic"]), np.asarray(obs[n]["depth"])
+            state.update_map(cell[n], heading[n], frame, semantic)
+            if memory.sees_goal(cell[n], frame, semantic, depth, state.earned):
+                actions[i] = memory.stop_action
             else:
                 actions[i] = state.decide(cell[n], heading[n])
         return actions
-
-
-def stop_test(task: AgentTask) -> tuple[int, float] | None:
-    """When to call STOP: (target pixels, metres) where the protocol needs STOP
-    (``task.stop_action``), from its ``near_visible`` goal rule, its ``min_pixels`` (counted
-    on the goal camera's frame) scaled to the agent camera's frame; None without STOP."""
-    if task.stop_action is None:
-        return None
-    rule = task.goal_rule or {}
-    if rule.get("kind") != "near_visible":
-        raise ValueError(f"the frontier agent calls STOP by the near_visible goal rule, not {rule.get('kind')!r}")
-    scale = task.camera["width"] * task.camera["height"] / (GOAL_CAMERA.width * GOAL_CAMERA.height)
-    return int(np.ceil(rule["min_pixels"] * scale)), float(rule["max_distance"])

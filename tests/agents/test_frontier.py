@@ -104,7 +104,7 @@ def test_frontier_on_the_grid_world_is_refused_in_one_line(tmp_path):
 
 
 def test_voxel_memory_keeps_sorted_unique_rows():
-    from objsearch_agents.baselines.frontier import unique_voxels
+    from objsearch_agents.baselines.frontier_geometry import unique_voxels
 
     rng = np.random.default_rng(0)
     for _ in range(50):
