@@ -1,8 +1,8 @@
 """The training-free ``frontier`` agent: its map against the true floor plan, success well
-above random, records that do not depend on the batch, and the worlds it refuses."""
+above random, and the worlds it refuses (records that do not depend on the batch:
+``tests/eval/test_lockstep.py``)."""
 
 import numpy as np
-import pytest
 
 from objsearch.eval.episode import run_episode
 from objsearch.eval.suites.house import HouseSuite
@@ -67,25 +67,6 @@ def test_frontier_finds_targets_far_more_often_than_random(cache_dir):
         assert not any("error" in r for r in records)
         sr[name] = np.mean([r["success"] for r in records])
     assert sr["frontier"] >= 0.8 and sr["random"] <= 0.25, sr
-
-
-@pytest.mark.parametrize("agent", ["frontier", "grg_frontier"])
-def test_batched_records_equal_the_sequential_ones(cache_dir, agent):
-    from objsearch.eval.runner import EvalConfig, evaluate
-
-    config = EvalConfig(
-        agent=agent,
-        suite="house-single",
-        splits=("seen-goals",),
-        seeds=(1,),
-        suite_config={"mode": "cached", "cache_dir": cache_dir, "max_steps": 40},
-    )
-    one = evaluate(config, progress=False, batch=1)
-    many = evaluate(config, progress=False, batch=16)
-    assert many["episodes"] == one["episodes"]
-    assert 0 < sum(r["success"] for r in one["episodes"]) < 100 and not any("error" in r for r in one["episodes"])
-    if agent == "grg_frontier":
-        assert one["config"]["weights_sha256"], "the GRG it read is recorded"
 
 
 def test_frontier_on_the_grid_world_is_refused_in_one_line(tmp_path):

@@ -1,6 +1,6 @@
 """The house agents' checkpoints: every shipped run loads and says how it was made, other
-methods' and suites' checkpoints are refused with the command that makes the right one, and
-batched evaluation gives the sequential records."""
+methods' and suites' checkpoints are refused with the command that makes the right one
+(batched evaluation gives the sequential records: ``tests/eval/test_lockstep.py``)."""
 
 from dataclasses import replace
 from pathlib import Path
@@ -93,21 +93,3 @@ def test_the_explorer_extension_has_its_own_name(tmp_path):
     with pytest.raises(UserError, match="trained as hrl_grg_explorer, not hrl_grg; pick --agent hrl_grg_explorer"):
         make_agent("hrl_grg", str(explorer), suite="house-single")
     assert not list(tmp_path.iterdir())  # refused before anything was written
-
-
-@pytest.mark.parametrize("agent", ["a3c", "hrl_grg"])
-def test_batched_evaluation_gives_the_sequential_records(cache_dir, agent):
-    from objsearch.eval.runner import EvalConfig, evaluate
-
-    config = EvalConfig(
-        agent=agent,
-        suite="house-single",
-        splits=("seen-goals",),
-        seeds=(1,),
-        suite_config={"mode": "cached", "cache_dir": cache_dir, "max_steps": 60},
-        training_run=0,  # one of the shipped runs: each plays through the same code
-    )
-    one = evaluate(config, progress=False, batch=1)
-    many = evaluate(config, progress=False, batch=16)
-    assert many["episodes"] == one["episodes"]
-    assert 0 < sum(r["success"] for r in one["episodes"]) < 100 and not any("error" in r for r in one["episodes"])

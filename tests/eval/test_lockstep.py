@@ -29,6 +29,28 @@ def test_batch_sizes_give_identical_records(agent):
         assert sum("error" in r for r in one["episodes"]) == 100  # the even episodes failed, the run went on
 
 
+@pytest.mark.parametrize(
+    "agent, max_steps, training_run",
+    # the learned ones play one of their shipped runs: each plays through the same code
+    [("frontier", 40, None), ("grg_frontier", 40, None), ("a3c", 60, 0), ("hrl_grg", 60, 0)],
+)
+def test_house_agents_in_lockstep_give_the_sequential_records(cache_dir, agent, max_steps, training_run):
+    config = EvalConfig(
+        agent=agent,
+        suite="house-single",
+        splits=("seen-goals",),
+        seeds=(1,),
+        suite_config={"mode": "cached", "cache_dir": cache_dir, "max_steps": max_steps},
+        training_run=training_run,
+    )
+    one = evaluate(config, progress=False, batch=1)
+    many = evaluate(config, progress=False, batch=16)
+    assert many["episodes"] == one["episodes"]
+    assert 0 < sum(r["success"] for r in one["episodes"]) < 100 and not any("error" in r for r in one["episodes"])
+    if agent == "grg_frontier":
+        assert one["config"]["weights_sha256"], "the GRG it read is recorded"
+
+
 def test_batched_workers_give_identical_records():
     config = EvalConfig(agent="random", splits=("all-goals",), seeds=(1,))
     assert evaluate(config, progress=False, workers=2, batch=16) == evaluate(config, progress=False)
