@@ -20,9 +20,17 @@ def add_parser(subparsers) -> None:
     )
     commands = parser.add_subparsers(dest="perception_command", metavar="ACTION", required=True)
 
-    data = commands.add_parser("dataset", help="render training / validation / test frames of house-gen's houses")
+    data = commands.add_parser(
+        "dataset", help="render training / validation / test frames of house-gen's (or house-large's) houses"
+    )
     data.add_argument("--out", required=True, help="dataset folder (an interrupted build there resumes)")
     data.add_argument("--seed", type=non_negative_int, default=0, help="pose sampling seed (default: 0)")
+    data.add_argument(
+        "--suite",
+        default="house-gen",
+        help="the suite whose houses are rendered: house-gen (default, the shipped network's) or house-large "
+        "(its 60 training, 5 val and 10 test houses with the large-house tier's small targets; no test-seen-shapes)",
+    )
     data.add_argument(
         "--poses-per-house", type=non_negative_int, default=200, help="frames per training house (default: 200)"
     )
@@ -32,11 +40,11 @@ def add_parser(subparsers) -> None:
     data.add_argument(
         "--train-houses",
         type=non_negative_int,
-        help="training houses: house-gen's 40, then generated ones (default: 200)",
+        help="training houses: house-gen's 40, then generated ones (default: 200; house-large: its 60)",
     )
     for split in ("val", "test", "test-seen-shapes"):
         data.add_argument(
-            f"--{split}-houses", type=non_negative_int, help=f"use only the first N of the 10 {split} houses"
+            f"--{split}-houses", type=non_negative_int, help=f"use only the first N of the suite's {split} houses"
         )
     data.add_argument(
         "--size", type=non_negative_int, help="render width and height in pixels (default: 64, the agent camera's)"
@@ -47,6 +55,13 @@ def add_parser(subparsers) -> None:
         default=0.0,
         help="strength 0..1 of the training frames' variety in object proportions and colours, walls, floors "
         "and light (objsearch/perception/variety.py; default 0: the houses as they are)",
+    )
+    data.add_argument(
+        "--target-share",
+        type=float,
+        default=0.0,
+        help="share 0..1 of each training house's frames chosen among poses that show one of the suite's "
+        "targets (house-large: its small targets), as far as the house has them (default 0: uniform poses)",
     )
     data.add_argument("--quiet", action="store_true", help="no progress bar")
     add_executor_arguments(data, "--out")
@@ -98,13 +113,14 @@ def run_dataset(args: argparse.Namespace) -> int:
     """``objsearch perception dataset``: render the frames of the dataset into ``--out``; returns 0."""
     from dataclasses import replace
 
-    from objsearch.perception.dataset import DEFAULT_HOUSES, SPLITS, build_dataset
+    from objsearch.perception.dataset import SPLITS, build_dataset, default_houses
     from objsearch.sim.camera import AGENT_CAMERA
 
     check_executor_arguments(args)
     settings = AGENT_CAMERA if args.size is None else replace(AGENT_CAMERA, width=args.size, height=args.size)
     wanted = {s: getattr(args, f"{s.replace('-', '_')}_houses") for s in SPLITS}
-    limits = {s: DEFAULT_HOUSES[s] if n is None else n for s, n in wanted.items()}
+    defaults = default_houses(args.suite)
+    limits = {s: defaults.get(s, 0) if n is None else n for s, n in wanted.items()}
     manifest = build_dataset(
         args.out,
         settings=settings,
@@ -117,9 +133,12 @@ def run_dataset(args: argparse.Namespace) -> int:
         address=args.address,
         workers=args.workers,
         variety=args.variety,
+        suite=args.suite,
+        target_share=args.target_share,
     )
     for split, entry in manifest["splits"].items():
-        print(f"{split}: {entry['frames']} frames from {len(entry['houses'])} houses")
+        shown = f" ({entry['target_frames']} show a target)" if "target_frames" in entry else ""
+        print(f"{split}: {entry['frames']} frames from {len(entry['houses'])} houses{shown}")
     print(f"wrote {args.out}/manifest.json")
     return 0
 
@@ -153,19 +172,6 @@ def run_train(args: argparse.Namespace) -> int:
     return status
 
 
-def target_categories() -> list[int]:
-    """Category ids that the house suites house-single, house-multi and house-gen search for
-    (the v1 suites, fixed, so that ``miou_targets`` keeps its meaning as suites are added)."""
-    from objsearch.house.categories import CATEGORY_IDS
-    from objsearch.sim.suites import load_suite_file
-
-    names = set()
-    for suite in ("house-single", "house-multi", "house-gen"):
-        for group in load_suite_file(suite)["categories"].values():
-            names.update(group)
-    return sorted(CATEGORY_IDS[name] for name in names)
-
-
 class _TimedPredictor:
     """A predictor that adds up the seconds its ``predict`` calls take (the network's frames/s in ``eval``)."""
 
@@ -194,7 +200,7 @@ def run_eval(args: argparse.Namespace) -> int:
     import torch
 
     from objsearch.house.categories import CATEGORY_NAMES
-    from objsearch.perception.dataset import load_split, read_manifest
+    from objsearch.perception.dataset import load_split, read_manifest, small_target_categories, target_categories
     from objsearch.perception.inference import BATCH, Predictor, evaluate
     from objsearch.perception.metrics import (
         NEAR_DISTANCE,
@@ -223,6 +229,10 @@ def run_eval(args: argparse.Namespace) -> int:
     result = evaluate(timed, frames, progress=not args.json)
     targets = target_categories()
     result.update(target_metrics(result, targets))
+    small = small_target_categories()
+    small_present = sum(c in result["iou"] for c in small)
+    if small_present:
+        result.update({k.replace("_targets", "_small_targets"): v for k, v in target_metrics(result, small).items()})
     result["predict_frames_per_s"] = len(frames) / timed.seconds if timed.seconds else float("nan")
     present = sum(c in result["iou"] for c in targets)
     print(
@@ -238,6 +248,12 @@ def run_eval(args: argparse.Namespace) -> int:
         f"predictions, target categories: precision {result['stop_precision_targets']:.3f} (frames where the "
         f"ground truth passes it too), recall {result['stop_recall_targets']:.3f}"
     )
+    if small_present:
+        print(
+            f"over the {small_present} small targets of the large-house tier present: mIoU "
+            f"{result['miou_small_targets']:.3f}   STOP test precision {result['stop_precision_small_targets']:.3f}, "
+            f"recall {result['stop_recall_small_targets']:.3f}"
+        )
     print(
         f"network: {result['predict_frames_per_s']:.1f} frames/s (batches of {BATCH}, {predictor.device}, "
         f"{torch.get_num_threads()} torch threads; benchmarks/bench_perception.py measures it properly); "
@@ -276,6 +292,7 @@ def run_eval(args: argparse.Namespace) -> int:
             torch_threads=torch.get_num_threads(),
             counted=[CATEGORY_NAMES[c] for c in result["counted"]],
             targets=[CATEGORY_NAMES[c] for c in targets],
+            small_targets=[CATEGORY_NAMES[c] for c in small if c in result["iou"]],
             per_category={CATEGORY_NAMES[c]: round(v, 4) for c, v in result["iou"].items()},
             visibility_per_category=per_category_visibility,
             near_per_category=per_category_near,

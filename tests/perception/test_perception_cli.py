@@ -92,6 +92,9 @@ def test_dataset_train_eval_json(tmp_path, capsys):
         "per_category",
     } <= set(result)
     assert result["split"] == "test" and result["frames"] == 8
+    # the large-house tier's small targets are scored apart, when the frames hold any
+    assert set(result["small_targets"]) <= set(result["per_category"])
+    assert ("miou_small_targets" in result) == bool(result["small_targets"])
     r = _run(
         "eval", "--checkpoint", str(run / "model.pt"), "--data", str(data), "--split", "test-seen-shapes", cwd=tmp_path
     )
@@ -101,3 +104,6 @@ def test_dataset_train_eval_json(tmp_path, capsys):
     assert "missing.pt" in capsys.readouterr().err
     assert main(["perception", "train", "--data", str(data), "--out", str(run), "--set", "lr=fast"]) == 2
     assert "lr takes a float" in capsys.readouterr().err
+    wrong = tmp_path / "wrong-suite"
+    assert main(["perception", "dataset", "--suite", "house-multi", "--out", str(wrong)]) == 2
+    assert "house-gen or house-large, not 'house-multi'" in capsys.readouterr().err and not wrong.exists()

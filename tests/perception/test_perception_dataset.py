@@ -33,8 +33,28 @@ def test_more_training_houses_are_generated_past_the_suites_forty():
     assert {h["split"] for h in extra} == {"train"} and all(len(h["spec_sha256"]) == 64 for h in extra)
     assert not set(train) & (set(split_houses("val")) | set(split_houses("test")))
     assert list(split_houses("train", 3)) == list(suite)[:3]
-    with pytest.raises(UserError, match="the test split has 10 houses, not 11"):
+    with pytest.raises(UserError, match="the test split of house-gen has 10 houses, not 11"):
         split_houses("test", 11)
+
+
+def test_house_large_splits_are_its_own_houses_with_small_targets_and_no_seen_shapes():
+    from objsearch.perception.dataset import default_houses
+    from objsearch.sim.suites import load_suite_file
+
+    train, val, test = (split_houses(s, suite="house-large") for s in ("train", "val", "test"))
+    suite = load_suite_file("house-large")
+    assert train == suite["training_houses"] and len(train) == 60
+    assert {**val, **test} == suite["houses"] and (len(val), len(test)) == (5, 10)
+    assert {h["generator"] for h in {**train, **val}.values()} == {"house-gen-3"}
+    assert {h["split"] for h in test.values()} == {"test"}  # held-out mesh variants
+    assert default_houses("house-large") == {"train": 60, "val": 5, "test": 10}
+    assert split_houses("test-seen-shapes", 0, suite="house-large") == {}
+    with pytest.raises(UserError, match="house-large has no test-seen-shapes split"):
+        split_houses("test-seen-shapes", 2, suite="house-large")
+    with pytest.raises(UserError, match="the train split of house-large has 60 houses, not 61"):
+        split_houses("train", 61, suite="house-large")  # only house-gen generates more
+    with pytest.raises(UserError, match="house-gen or house-large, not 'house-multi'"):
+        split_houses("train", suite="house-multi")
 
 
 def test_pose_sampling_is_seeded_per_house():
@@ -81,6 +101,44 @@ def test_the_seen_shapes_split_is_unseen_houses_with_training_mesh_variants():
     assert not set(houses) & others
     with pytest.raises(UserError, match="10 houses, not 11"):
         split_houses("test-seen-shapes", 11)
+
+
+def test_a_house_large_build_renders_its_first_training_house_and_records_the_suite(tmp_path):
+    from conftest import LOW_RES
+
+    from objsearch.perception.dataset import build_dataset
+
+    manifest = build_dataset(
+        tmp_path, settings=LOW_RES, poses_per_house=8, houses={"train": 1}, progress=False, suite="house-large"
+    )
+    assert (manifest["suite"], manifest["suite_version"]) == ("house-large", "house-large-v1")
+    assert list(manifest["splits"]) == ["train"] and manifest["splits"]["train"]["frames"] == 8
+    (house,) = manifest["splits"]["train"]["houses"]
+    assert house == next(iter(split_houses("train", suite="house-large")))
+    assert read_manifest(tmp_path) == manifest and len(load_split(tmp_path, "train")) == 8
+
+
+def test_target_share_chooses_poses_that_show_the_suites_targets(tmp_path):
+    from conftest import LOW_RES
+
+    from objsearch.perception.dataset import build_dataset, read_shard
+
+    kwargs = dict(settings=LOW_RES, poses_per_house=24, houses={"train": 1, "val": 1}, progress=False)
+    uniform = build_dataset(tmp_path / "uniform", **kwargs, suite="house-large")
+    chosen = build_dataset(tmp_path / "targets", **kwargs, suite="house-large", target_share=1.0)
+    train = chosen["splits"]["train"]
+    assert chosen["target_share"] == 1.0 and "target_share" not in uniform
+    assert train["frames"] == 24 and train["target_frames"] >= 12  # random poses: a few show a small target
+    house = next(iter(train["houses"]))
+    shards = {k: read_shard(tmp_path / k / "train" / f"{house}.npz") for k in ("uniform", "targets")}
+    assert not np.array_equal(shards["uniform"]["pose_ids"], shards["targets"]["pose_ids"])
+    assert len(np.unique(shards["targets"]["pose_ids"])) == 24
+    # validation frames stay uniform, and a rebuild draws the same poses
+    assert chosen["splits"]["val"] == uniform["splits"]["val"] and "target_frames" not in chosen["splits"]["val"]
+    again = build_dataset(tmp_path / "again", **kwargs, suite="house-large", target_share=1.0)
+    assert again["splits"]["train"] == train
+    with pytest.raises(UserError, match="target_share must be between 0 and 1"):
+        build_dataset(tmp_path / "bad", **kwargs, target_share=1.5)
 
 
 def test_a_misspelt_split_is_refused_before_anything_is_rendered(tmp_path):
