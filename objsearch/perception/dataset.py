@@ -56,6 +56,7 @@ from objsearch.errors import UserError
 from objsearch.fileio import atomic_write, write_json
 from objsearch.house.categories import CATEGORY_TABLE_VERSION
 from objsearch.perception.model import NUM_CLASSES
+from objsearch.perception.targets import small_target_categories, target_categories  # noqa: F401
 
 DATASET_VERSION = "perception-data-v1"
 SPLITS = ("train", "val", "test", "test-seen-shapes")
@@ -115,28 +116,6 @@ def default_houses(suite: str = SUITE) -> dict[str, int]:
     if suite == SUITE:
         return dict(DEFAULT_HOUSES)
     return {split: len(split_houses(split, suite=suite)) for split in SPLITS if split != "test-seen-shapes"}
-
-
-def target_categories() -> list[int]:
-    """Category ids that the house suites house-single, house-multi and house-gen search for
-    (the v1 suites, fixed, so that ``miou_targets`` keeps its meaning as suites are added)."""
-    from objsearch.house.categories import CATEGORY_IDS
-    from objsearch.sim.suites import load_suite_file
-
-    names = set()
-    for suite in ("house-single", "house-multi", "house-gen"):
-        for group in load_suite_file(suite)["categories"].values():
-            names.update(group)
-    return sorted(CATEGORY_IDS[name] for name in names)
-
-
-def small_target_categories() -> list[int]:
-    """Category ids of the large-house tier's small targets (``house-gen-3``'s ``SMALL_TARGETS``:
-    a cup, a remote, an alarm clock, ...), seen only from close by."""
-    from objsearch.house.categories import CATEGORY_IDS
-    from objsearch.house.gen3.build import SMALL_TARGETS
-
-    return sorted(CATEGORY_IDS[name] for name in SMALL_TARGETS)
 
 
 def frame_targets(suite: str) -> list[int]:
