@@ -200,7 +200,7 @@ def run_eval(args: argparse.Namespace) -> int:
     import torch
 
     from objsearch.house.categories import CATEGORY_NAMES
-    from objsearch.perception.dataset import load_split, read_manifest, small_target_categories, target_categories
+    from objsearch.perception.dataset import load_split, read_manifest
     from objsearch.perception.inference import BATCH, Predictor, evaluate
     from objsearch.perception.metrics import (
         NEAR_DISTANCE,
@@ -211,6 +211,7 @@ def run_eval(args: argparse.Namespace) -> int:
         target_status,
         visibility_scores,
     )
+    from objsearch.perception.targets import small_target_categories, target_categories
     from objsearch.sim.camera import RenderSettings, check_camera
 
     manifest = read_manifest(args.data)

@@ -56,7 +56,7 @@ from objsearch.errors import UserError
 from objsearch.fileio import atomic_write, write_json
 from objsearch.house.categories import CATEGORY_TABLE_VERSION
 from objsearch.perception.model import NUM_CLASSES
-from objsearch.perception.targets import small_target_categories, target_categories  # noqa: F401
+from objsearch.perception.targets import small_target_categories, target_categories
 
 DATASET_VERSION = "perception-data-v1"
 SPLITS = ("train", "val", "test", "test-seen-shapes")
@@ -321,6 +321,12 @@ def build_dataset(
     return manifest
 
 
+def shows_target(semantic: np.ndarray, targets) -> np.ndarray:
+    """Per frame of (N, H, W) ``semantic``: whether at least ``TARGET_FRAME_PIXELS`` pixels are a
+    category of ``targets``."""
+    return np.isin(semantic, list(targets)).sum(axis=(1, 2)) >= TARGET_FRAME_PIXELS
+
+
 def choose_pose_ids(world, settings, count: int, seed: int, house_seed: int, share: float, targets) -> np.ndarray:
     """``count`` distinct pose ids (sorted) of ``world``, ``round(share * count)`` of them (as far
     as there are) among those whose frame shows at least ``TARGET_FRAME_PIXELS`` pixels of a
@@ -332,7 +338,7 @@ def choose_pose_ids(world, settings, count: int, seed: int, house_seed: int, sha
     candidates = sample_pose_ids(world.graph.num_poses, count * TARGET_CANDIDATES, seed, house_seed)
     with HouseRenderer(world.model, settings) as renderer:
         semantic = renderer.render(world.graph.world_poses(candidates)).semantic
-    shows = np.isin(semantic, list(targets)).sum(axis=(1, 2)) >= TARGET_FRAME_PIXELS
+    shows = shows_target(semantic, targets)
     rng = np.random.default_rng([seed, house_seed, TARGET_STREAM])
     count = min(count, len(candidates))
     with_target = rng.permutation(candidates[shows])[: min(round(share * count), count)]
@@ -401,7 +407,7 @@ def render_shard(
     counts = np.bincount(semantic.ravel(), minlength=NUM_CLASSES)
     result = {"frames": int(len(pose_ids)), "class_pixels": counts.tolist()}
     if target_share:
-        result["target_frames"] = int((np.isin(semantic, list(targets)).sum(axis=(1, 2)) >= TARGET_FRAME_PIXELS).sum())
+        result["target_frames"] = int(shows_target(semantic, targets).sum())
     return result
 
 

@@ -1,5 +1,6 @@
-"""The category ids perception is scored on and a dataset looks for: the house suites' targets,
-the large-house tier's small targets, and a dataset suite's (``frame_targets``)."""
+"""The category ids perception is scored on and a dataset looks for: the house suites' targets
+and the large-house tier's small targets (``objsearch.perception.dataset.frame_targets`` picks a
+dataset suite's)."""
 
 from __future__ import annotations
 

@@ -12,6 +12,9 @@ from objsearch.perception.dataset import (
     write_shard,
 )
 from objsearch.perception.model import NUM_CLASSES
+from objsearch.sim.camera import RenderSettings
+
+LOW_RES = RenderSettings(width=32, height=32)  # conftest's; a function-level conftest import is ambiguous in a full run
 
 
 def test_splits_are_disjoint_and_keep_test_instances_out_of_training():
@@ -105,9 +108,7 @@ def test_the_seen_shapes_split_is_unseen_houses_with_training_mesh_variants():
 
 def test_a_house_large_build_renders_its_first_training_house_and_records_the_suite(tmp_path):
     from objsearch.perception.dataset import build_dataset
-    from objsearch.sim.camera import RenderSettings
 
-    LOW_RES = RenderSettings(width=32, height=32)
     manifest = build_dataset(
         tmp_path, settings=LOW_RES, poses_per_house=8, houses={"train": 1}, progress=False, suite="house-large"
     )
@@ -120,9 +121,7 @@ def test_a_house_large_build_renders_its_first_training_house_and_records_the_su
 
 def test_target_share_chooses_poses_that_show_the_suites_targets(tmp_path):
     from objsearch.perception.dataset import build_dataset, read_shard
-    from objsearch.sim.camera import RenderSettings
 
-    LOW_RES = RenderSettings(width=32, height=32)
     kwargs = dict(settings=LOW_RES, poses_per_house=24, houses={"train": 1, "val": 1}, progress=False)
     uniform = build_dataset(tmp_path / "uniform", **kwargs, suite="house-large")
     chosen = build_dataset(tmp_path / "targets", **kwargs, suite="house-large", target_share=1.0)
