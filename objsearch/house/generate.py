@@ -26,14 +26,20 @@ house that the same arguments give, with every object moved to a random place an
 the house, and ``roomwise``: every object moved to a random place in a room of its room's
 type (``objsearch.house.shuffle``), each drawn from its own generator
 (``default_rng([seed, split, PLACEMENT_STREAMS[placement], Generator.shuffle_key])``, so the
-functional draws are unchanged). Every shuffle is validated, ``validate`` or not; a shuffle that fails
-draws another, up to ``SHUFFLE_ATTEMPTS``. (``validate=False``, as suites regenerate their
+functional draws are unchanged), and the settings of the fidelity dial, ``anywhere-P`` and
+``roomwise-P`` (``objsearch.house.dial``): a share P percent of the objects moved, which objects
+drawn from one stream for both families and every P (``default_rng([seed, split,
+DIAL_ORDER_STREAM, shuffle_key])``), where they go from the family's stream
+(``default_rng([seed, split, DIAL_STREAMS[family], shuffle_key, P])``). Every shuffle is
+validated, ``validate`` or not; a shuffle that fails draws another (of the same objects, for the
+dial), up to ``SHUFFLE_ATTEMPTS``. (``validate=False``, as suites regenerate their
 houses, takes the first attempt that compiles, valid or not, so its functional house, and then
 its shuffled one, may differ from the validated one of the seed.)
 """
 
 from __future__ import annotations
 
+import json
 from dataclasses import dataclass
 from functools import partial
 from pathlib import Path
@@ -44,6 +50,7 @@ import numpy as np
 from objsearch.errors import UserError
 from objsearch.fileio import atomic_directory, full_disk_as_error
 from objsearch.house import assets
+from objsearch.house.dial import dial_house, dial_setting, moving_objects
 from objsearch.house.generators import GENERATORS, get_generator
 from objsearch.house.mjcf import compile_house
 from objsearch.house.shuffle import shuffle_house
@@ -55,6 +62,11 @@ SHUFFLE_ATTEMPTS = 32
 SHUFFLE_STREAM = 104729
 #: The random stream of each placement that moves a functional house's objects (``_moved``).
 PLACEMENT_STREAMS = {"shuffled": SHUFFLE_STREAM, "roomwise": 130363}
+#: The random stream of which objects the fidelity dial moves (``dial.moving_objects``), shared by
+#: its families and settings so the dial is nested; never one of ``PLACEMENT_STREAMS``.
+DIAL_ORDER_STREAM = 150001
+#: The random stream of where each family of the dial puts the objects it moves (keyed by P too).
+DIAL_STREAMS = {"anywhere": 160001, "roomwise": 170003}
 
 
 class HouseGenerationError(RuntimeError):
@@ -134,15 +146,23 @@ def generate_house(
 
 
 def _moved(house: GeneratedHouse, placement: str) -> GeneratedHouse:
-    """The ``placement`` house (``shuffled`` or ``roomwise``) of the functional ``house``: the
-    first valid of ``SHUFFLE_ATTEMPTS`` shuffles."""
+    """The ``placement`` house (``shuffled``, ``roomwise`` or a dial setting) of the functional
+    ``house``: the first valid of ``SHUFFLE_ATTEMPTS`` shuffles."""
     spec = house.spec
     generator = spec.generator_version
     key = get_generator(generator).shuffle_key
-    rng = np.random.default_rng([spec.seed, SPLITS[spec.split], PLACEMENT_STREAMS[placement], key])
+    stream = [spec.seed, SPLITS[spec.split]]
+    if placement in PLACEMENT_STREAMS:
+        rng = np.random.default_rng([*stream, PLACEMENT_STREAMS[placement], key])
+        shuffle = partial(shuffle_house, spec, rng, placement)
+    else:
+        family, share = dial_setting(placement)
+        moving = moving_objects(spec, share, np.random.default_rng([*stream, DIAL_ORDER_STREAM, key]))
+        rng = np.random.default_rng([*stream, DIAL_STREAMS[family], key, share])
+        shuffle = partial(dial_house, spec, moving, rng, placement)
     failures = []
     for attempt in range(SHUFFLE_ATTEMPTS):
-        moved = _checked(partial(shuffle_house, spec, rng, placement), validate=True)
+        moved = _checked(shuffle, validate=True)
         if isinstance(moved, GeneratedHouse):
             return moved
         failures.append(f"shuffle {attempt}: {moved}")
@@ -168,18 +188,25 @@ def _checked(build, validate: bool) -> GeneratedHouse | str:
     return "; ".join(report.problems[:3])
 
 
-def write_house(house: GeneratedHouse, out_dir: str | Path, preview: bool = True) -> Path:
+def write_house(house: GeneratedHouse, out_dir: str | Path, preview: bool = True, overwrite: bool = False) -> Path:
     """Write ``<out_dir>/<house_id>/`` (house.xml, spec.json, preview.png, meshes/): into a temp
     folder renamed into place, so that an interrupt or a full disk (a ``UserError`` naming the
-    house) leaves the whole house, or what was there before, never part of one."""
+    house) leaves the whole house, or what was there before, never part of one. A folder there
+    already is replaced only as ``house_folder.check_house_folder`` allows: the same house, or
+    another one with ``overwrite``, and never one holding files that this did not write."""
+    from objsearch.house.house_folder import check_house_folder
+
     d = Path(out_dir) / house.spec.house_id
+    text = {"spec.json": house.spec.to_json_text(), "house.xml": house.xml}
+    if not check_house_folder(d, json.loads(text["spec.json"]), text, overwrite):
+        return d  # the same house, with the user's files beside it: left as it is
     with full_disk_as_error(d, "choose another --out"), atomic_directory(d) as tmp:
         for cat, variant in sorted({(o.category, o.variant) for o in house.spec.objects}):
             mesh = tmp / "meshes" / assets.mesh_file(cat, variant)
             mesh.parent.mkdir(parents=True, exist_ok=True)
             mesh.write_bytes(assets.mesh_bytes(cat, variant))
         (tmp / "house.xml").write_text(house.xml)
-        (tmp / "spec.json").write_text(house.spec.to_json_text())
+        (tmp / "spec.json").write_text(text["spec.json"])
         if preview:
             from objsearch.house.preview import write_preview
 

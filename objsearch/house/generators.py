@@ -31,6 +31,7 @@ GENERATORS: dict[str, str] = {
     "house-gen-1": "objsearch.house.gen1",
     "house-gen-2": "objsearch.house.gen2",
     "house-gen-3": "objsearch.house.gen3",
+    "house-gen-4": "objsearch.house.gen4",
 }
 
 

@@ -74,7 +74,27 @@ def obstacle_mask(spec: HouseSpec, resolution: float, agent_height: float = AGEN
     for o in spec.objects:
         if o.position[2] < agent_height:
             _fill(mask, o.footprint, origin, resolution)
+    if sum(r.area for r in spec.rooms) < 0.999 * width * depth:  # an L, T or U: outside its rooms is no floor
+        mask |= ~_inside_rooms(spec, shape, resolution)
     return mask, origin
+
+
+def _inside_rooms(spec: HouseSpec, shape: tuple[int, int], res: float) -> np.ndarray:
+    """Bool (rows, cols): cell centres inside some room (each room's rectilinear polygon by the
+    even-odd rule over its vertical edges)."""
+    ys = (np.arange(shape[0]) + 0.5) * res
+    xs = (np.arange(shape[1]) + 0.5) * res
+    inside = np.zeros(shape, dtype=bool)
+    for r in spec.rooms:
+        room = np.zeros(shape, dtype=bool)
+        poly = r.polygon
+        for (x0, y0), (x1, y1) in zip(poly, poly[1:] + poly[:1]):
+            if x0 != x1:
+                continue
+            rows = (ys >= min(y0, y1)) & (ys < max(y0, y1))
+            room[np.ix_(rows, xs < x0)] ^= True
+        inside |= room
+    return inside
 
 
 def occupancy_grid(

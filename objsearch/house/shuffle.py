@@ -25,7 +25,10 @@ Where an object goes:
 * a wall-mounted object hangs on a wall at the height it had;
 * an object that stood on another stands on a receptacle drawn uniformly among every
   receptacle of the house (the category's ``parents`` are a prior too: ignored), near its
-  front edge (``FRONT_BAND``), where the agent can come near it.
+  front edge (``FRONT_BAND``), where the agent can come near it. That made moved objects
+  easier to see than functional ones; the fidelity dial (``objsearch.house.dial``:
+  ``anywhere-P``, ``roomwise-P``, P = 100 for every object) draws the spot as the functional
+  house does, and reuses this module's helpers. These two placements stay as they are.
 
 The layout rules of the functional house hold (``objsearch.house.layout``): nothing in
 front of a door, a strip kept free in front of wall furniture, a passage along narrow
@@ -61,13 +64,14 @@ FRONT_BAND = 0.6  # an object on top stands this near its receptacle's front edg
 CORNER_ACCESS = 0.3  # free strip in front of an object in a corner (as the functional fill keeps)
 
 
-class _MovingContext(HouseContext):
+class MovingContext(HouseContext):
     """A ``HouseContext`` whose next instance is ``moving`` at its new place: the object keeps
     its identity (category, instance, variant, size, colour), no rng draw for it."""
 
     moving: ObjectInstance
 
     def new_instance(self, cat, room, pos, yaw, size, placement, parent=None, group=None) -> ObjectInstance:
+        """The object being moved (``moving``) at its new place, pose and parent."""
         obj = replace(
             self.moving,
             room=room,
@@ -81,15 +85,23 @@ class _MovingContext(HouseContext):
         return obj
 
 
-def room_layouts(ctx: HouseContext, spec: HouseSpec) -> dict[int, RoomLayout]:
-    """An empty layout of every room (its whole interior) with the functional house's keep-outs."""
+def narrow_cells(room: Room) -> list[tuple[float, float, float, float]]:
+    """The rectangles of an L-shaped (or other rectilinear) room's grid (``Room.rects``) narrower than
+    ``NARROW``: kept free of furniture by ``shuffled`` and ``roomwise``."""
+    rects = room.rects()
+    return [r for r in rects if len(rects) > 1 and min(r[2] - r[0], r[3] - r[1]) < NARROW]
+
+
+def room_layouts(ctx: HouseContext, spec: HouseSpec, narrow=narrow_cells) -> dict[int, RoomLayout]:
+    """An empty layout of every room (its whole interior) with the functional house's keep-outs, and
+    the parts ``narrow(room)`` returns (default: ``narrow_cells``) kept free."""
     h = spec.wall_thickness / 2
     layouts = {}
     for room in spec.rooms:
         L = whole_layout(ctx, room, list(spec.doors), spec.wall_height, h, [])
-        rects = room.rects()
-        for x0, y0, x1, y1 in rects:
-            if len(rects) > 1 and min(x1 - x0, y1 - y0) < NARROW:
+        blocked = narrow(room)
+        for x0, y0, x1, y1 in room.rects():
+            if (x0, y0, x1, y1) in blocked:
                 L.block((x0, y0, 0.0, x1, y1, 10.0))
             elif room.type == "hallway" and min(x1 - x0, y1 - y0) < NARROW_HALLWAY:
                 passage(L, (x0, y0, x1, y1))
@@ -97,7 +109,7 @@ def room_layouts(ctx: HouseContext, spec: HouseSpec) -> dict[int, RoomLayout]:
     return layouts
 
 
-def _weighted_order(rng: np.random.Generator, items: list, weights: list[float]) -> list:
+def weighted_order(rng: np.random.Generator, items: list, weights: list[float]) -> list:
     """``items`` in an order drawn without replacement, each next one with probability proportional to its weight."""
     if not items:
         return []
@@ -105,22 +117,20 @@ def _weighted_order(rng: np.random.Generator, items: list, weights: list[float])
     return [items[i] for i in rng.choice(len(items), size=len(items), replace=False, p=p / p.sum())]
 
 
-def _room_order(rng: np.random.Generator, rooms, quota: Counter) -> list[Room]:
+def room_order(rng: np.random.Generator, rooms, quota: Counter) -> list[Room]:
     """The rooms to try a floor or wall object in: those still short of their quota first (drawn
     by how many they are short of), then the others (drawn by area)."""
     short = [r for r in rooms if quota[r.id] > 0]
     rest = [r for r in rooms if quota[r.id] <= 0]
-    return _weighted_order(rng, short, [quota[r.id] for r in short]) + _weighted_order(
-        rng, rest, [r.area for r in rest]
-    )
+    return weighted_order(rng, short, [quota[r.id] for r in short]) + weighted_order(rng, rest, [r.area for r in rest])
 
 
-def _kind(obj: ObjectInstance) -> int:
+def move_kind(obj: ObjectInstance) -> int:
     """The order objects are moved in: 0 on the floor, 1 on a wall, 2 on another object."""
     return 2 if obj.parent is not None else 1 if obj.placement == "on_wall" else 0
 
 
-def _place_in(L: RoomLayout, obj: ObjectInstance) -> ObjectInstance | None:
+def place_in(L: RoomLayout, obj: ObjectInstance) -> ObjectInstance | None:
     """Put ``obj`` (a floor or wall-mounted object) somewhere in ``L``'s room; None if it does not fit."""
     cat = category(obj.category)
     if obj.placement == "on_wall":
@@ -161,14 +171,14 @@ def shuffle_objects(spec: HouseSpec, rng: np.random.Generator, placement: str = 
     def allowed(obj: ObjectInstance, room: int) -> bool:
         return placement == "shuffled" or room_type[room] == room_type[obj.room]
 
-    ctx = _MovingContext(rng, spec.split)
+    ctx = MovingContext(rng, spec.split)
     layouts = room_layouts(ctx, spec)
-    quota = Counter(o.room for o in spec.objects if _kind(o) < 2)
-    order = sorted(spec.objects, key=lambda o: (_kind(o), -o.size[0] * o.size[1]))
+    quota = Counter(o.room for o in spec.objects if move_kind(o) < 2)
+    order = sorted(spec.objects, key=lambda o: (move_kind(o), -o.size[0] * o.size[1]))
     for obj in order:
         ctx.moving = obj
         placed = None
-        if _kind(obj) == 2:
+        if move_kind(obj) == 2:
             receptacles = [o for o in ctx.objects if category(o.category).receptacle and allowed(obj, o.room)]
             for i in rng.permutation(len(receptacles)):
                 parent = receptacles[i]
@@ -183,8 +193,8 @@ def shuffle_objects(spec: HouseSpec, rng: np.random.Generator, placement: str = 
                 if placed:
                     break
         else:
-            for room in _room_order(rng, [r for r in spec.rooms if allowed(obj, r.id)], quota):
-                placed = _place_in(layouts[room.id], obj)
+            for room in room_order(rng, [r for r in spec.rooms if allowed(obj, r.id)], quota):
+                placed = place_in(layouts[room.id], obj)
                 if placed:
                     quota[room.id] -= 1
                     break

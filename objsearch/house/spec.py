@@ -23,10 +23,20 @@ SCHEMA_VERSION = 1
 DECIMALS = 4
 #: The room id a door's ``rooms`` holds for the outside of the house (an entrance door).
 OUTSIDE = -1
+#: The families of the placement-fidelity dial (``objsearch.house.dial``): moved objects go
+#: anywhere in the house, or into rooms of their room's type.
+DIAL_FAMILIES = ("anywhere", "roomwise")
+#: The dial's settings: the share of a house's objects moved out of their functional places, in
+#: percent (0 is ``functional`` itself).
+DIAL_SHARES = (25, 50, 75, 100)
 #: How a house's objects are placed (``HouseSpec.placement``): in functional groups by room
 #: priors, shuffled anywhere in the house, or roomwise (shuffled within room types;
-#: ``objsearch.house.shuffle``). The first is the default.
-HOUSE_PLACEMENTS = ("functional", "shuffled", "roomwise")
+#: ``objsearch.house.shuffle``), or a setting ``<family>-<share>`` of the fidelity dial
+#: (``anywhere-25`` ... ``roomwise-100``: that share of the objects moved, ``objsearch.house.dial``).
+#: The first is the default.
+HOUSE_PLACEMENTS = ("functional", "shuffled", "roomwise") + tuple(
+    f"{family}-{share}" for family in DIAL_FAMILIES for share in DIAL_SHARES
+)
 #: The generator version (``HouseSpec.generator_version``; the registry:
 #: ``objsearch.house.generators.GENERATORS``) that ``generate_house`` and ``objsearch generate``
 #: use unless told otherwise.
@@ -245,8 +255,9 @@ class HouseSpec(JsonConfig):
     @property
     def placement(self) -> str:
         """How the objects were placed: ``functional`` (groups and room priors), ``shuffled`` or
-        ``roomwise`` (``objsearch.house.shuffle``), recorded in ``extra`` (absent: functional, so the
-        functional houses' bytes never changed)."""
+        ``roomwise`` (``objsearch.house.shuffle``), or a dial setting such as ``anywhere-50``
+        (``objsearch.house.dial``), recorded in ``extra`` (absent: functional, so the functional
+        houses' bytes never changed)."""
         return self.extra.get("placement", HOUSE_PLACEMENTS[0])
 
     @property

@@ -67,11 +67,11 @@ def reached(start: str) -> set[str]:
 
 
 #: The older versions a version builds on (their stages, frozen with them).
-BUILDS_ON = {"gen3": ("gen2",)}
+BUILDS_ON = {"gen3": ("gen2",), "gen4": ("gen2", "gen3")}
 
 
 def test_there_are_generator_packages():
-    assert VERSIONS == ["gen1", "gen2", "gen3"], VERSIONS
+    assert VERSIONS == ["gen1", "gen2", "gen3", "gen4"], VERSIONS
 
 
 @pytest.mark.parametrize("version", VERSIONS)

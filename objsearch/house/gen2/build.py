@@ -54,14 +54,16 @@ def spec_of_plan(
     small_density: float = 0.0,
     extra: dict | None = None,
     version: str = VERSION,
+    outline: tuple[tuple[float, float], ...] | None = None,
 ) -> HouseSpec:
     """The stages after the doors: materials, walls and (with ``furnished``) furniture and fill,
     drawn from ``rng``, as the ``HouseSpec`` of a ``house-gen-2`` house with these fields.
 
     ``small_density`` > 0 tops every room up with small objects to that many objects per m^2
     (``gen2.furnish.furnish``); ``extra`` is the spec's ``extra``; ``version`` the generator the
-    spec records (``house-gen-3`` builds on these stages). The defaults give the houses of
-    ``build_spec``.
+    spec records (``house-gen-3`` builds on these stages); ``outline`` the house's outline where
+    it is not the footprint's rectangle (``house-gen-4``; ``walls.build_walls``). The defaults
+    give the houses of ``build_spec``.
     """
     materials, rooms = [], []
     for i, (poly, t) in enumerate(zip(plan.polygons, plan.types)):
@@ -78,6 +80,7 @@ def spec_of_plan(
         WALL_HEIGHT,
         [r.wall_material for r in rooms],
         EXTERIOR.name,
+        outline,
     )
     objects = []
     if furnished:
