@@ -70,6 +70,7 @@ def evaluate(
     for name, value in counts:
         if isinstance(value, bool) or not isinstance(value, numbers.Integral) or value < 1:
             raise UserError(f"{name}={value!r}: give an integer >= 1")
+    step_time_limit = _step_time_limit(step_time_limit)
     splits = (split,) if isinstance(split, str) else tuple(split or ())
     if isinstance(agent, str):
         name, instance = agent, None
@@ -79,7 +80,8 @@ def evaluate(
         if checkpoint is not None:
             raise UserError("checkpoint= is for an agent given by name; load it into the agent object yourself")
         cls = type(agent)
-        name, instance = getattr(agent, "name", None) or f"{cls.__module__}:{cls.__qualname__}", agent
+        # its class, never a name the object gives itself: a registered name means the registry's agent
+        name, instance = f"{cls.__module__}:{cls.__qualname__}", agent
         from objsearch.eval.registry import check_supports
 
         check_supports(name, cls, suite)
@@ -94,3 +96,18 @@ def evaluate(
         step_time_limit=step_time_limit,
     )
     return run(config, workers=workers, progress=progress, out=out, batch=batch, agent=instance)
+
+
+def _step_time_limit(value) -> float | None:
+    """``step_time_limit`` checked: None or 0 (no limit), else a finite number of seconds > 0
+    (at most ``cliargs.MAX_SECONDS``); ``UserError`` naming it otherwise."""
+    from objsearch.cliargs import MAX_SECONDS
+    from objsearch.errors import UserError
+
+    if value is None or (isinstance(value, numbers.Real) and not isinstance(value, bool) and value == 0):
+        return None
+    if isinstance(value, bool) or not isinstance(value, numbers.Real) or not 0 < value <= MAX_SECONDS:
+        raise UserError(
+            f"step_time_limit={value!r}: give a number of seconds > 0 (at most {MAX_SECONDS:g}), or 0 or None for no limit"
+        )
+    return float(value)

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import argparse
+import math
 
 
 def _int_at_least(text: str, minimum: int, what: str) -> int:
@@ -36,14 +37,17 @@ def one_seed(text: str) -> int:
     return value
 
 
+MAX_SECONDS = 1e9  # about 30 years: the most a timer (setitimer) takes on every platform
+
+
 def seconds(text: str) -> float:
-    """argparse type: a number of seconds >= 0, as a float."""
+    """argparse type: a finite number of seconds from 0 to ``MAX_SECONDS``, as a float."""
     try:
         value = float(text)
     except ValueError:
-        value = -1.0
-    if value < 0:
-        raise argparse.ArgumentTypeError(f"expected a number of seconds >= 0, got {text!r}")
+        value = math.nan
+    if not 0 <= value <= MAX_SECONDS:  # also nan, inf and what overflows to inf (1e400)
+        raise argparse.ArgumentTypeError(f"expected a number of seconds from 0 to {MAX_SECONDS:g}, got {text!r}")
     return value
 
 

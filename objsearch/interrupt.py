@@ -16,6 +16,7 @@ import signal
 import threading
 
 STOP_SIGNALS = (signal.SIGINT, signal.SIGTERM)
+DEFERRED_SIGNALS = (signal.SIGINT, signal.SIGTERM, signal.SIGHUP)  # what signals_deferred holds back
 
 
 class Terminated(KeyboardInterrupt):
@@ -90,3 +91,26 @@ def stop_on_interrupt():
     finally:
         for signum, handler in previous.items():
             signal.signal(signum, handler)
+
+
+@contextlib.contextmanager
+def signals_deferred():
+    """While the block runs in the main thread, SIGINT, SIGTERM and SIGHUP wait: one that
+    arrives is recorded, and delivered (each once) when the block has ended and the previous
+    handlers are back, so that renames that belong together (``leaderboard add``'s entries and
+    pages) all happen before the process stops. Keep the block short: Ctrl-C waits for it.
+    Elsewhere than in the main thread it does nothing."""
+    if threading.current_thread() is not threading.main_thread():
+        yield
+        return
+    pending: list[int] = []
+    previous = {
+        signum: signal.signal(signum, lambda signum, frame: pending.append(signum)) for signum in DEFERRED_SIGNALS
+    }
+    try:
+        yield
+    finally:
+        for signum, handler in previous.items():
+            signal.signal(signum, signal.SIG_DFL if handler is None else handler)
+        for signum in dict.fromkeys(pending):
+            signal.raise_signal(signum)

@@ -15,6 +15,10 @@ rules, without doors, with more small objects (``OUT/<split>_<type>_<seed>/``).
 repeated bedrooms and bathrooms, each small target at most once); ``--rooms N`` (4-14) fixes
 the number of rooms, the tier's size knob.
 
+A house folder is named by split and seed (``train_000042``), so houses of other generators,
+placements or sizes go in another ``--out``: a folder holding another house is replaced only
+with ``--overwrite``, one holding files objsearch did not write never.
+
 ``--placement shuffled`` builds the same houses (floorplan, rooms, objects) with every object
 moved to a random place anywhere in the house, whatever the functional groups and room
 priors say; ``--placement roomwise`` moves every object to a random place in a room of its
@@ -78,7 +82,8 @@ def add_parser(subparsers) -> None:
         default=DEFAULT_GENERATOR,
         help=f"generator version (default: {DEFAULT_GENERATOR}: zoned floorplans with corridors, L-shaped rooms, "
         "an entrance and fill that follows room area; house-gen-1: the older layouts of house-single, house-multi "
-        "and house-gen, rooms cut from a rectangle, no entrance)",
+        "and house-gen, rooms cut from a rectangle, no entrance; house-gen-3: large houses, one hallway; house-gen-4: "
+        "large houses in floorplan families, L, T, U, two hallways, open plans)",
     )
     p.add_argument(
         "--placement",
@@ -86,7 +91,14 @@ def add_parser(subparsers) -> None:
         default="functional",
         help="where objects go: functional (default: in functional groups, by room priors), shuffled (the "
         "functional house's objects, each moved to a random place anywhere in the house) or roomwise (each moved "
-        "to a random place in a room of its room's type)",
+        "to a random place in a room of its room's type); anywhere-P, roomwise-P (P = 25, 50, 75, 100): the fidelity "
+        "dial, a share P%% of the objects moved anywhere or within room types",
+    )
+    p.add_argument(
+        "--overwrite",
+        action="store_true",
+        help="replace a house folder of the same name holding another house (another generator, placement or "
+        "size; default: refuse); a folder holding files objsearch did not write is never replaced",
     )
     p.add_argument("--no-preview", action="store_true", help="skip preview.png")
     p.add_argument("--quiet", action="store_true", help="no progress bar")
@@ -112,6 +124,7 @@ def run(args: argparse.Namespace) -> int:
             f"{', '.join(c.removeprefix('rooms-') for c in get_generator(args.generator).size_classes)}"
         )
     check_writable(args.out, "--out", folder=True)
+    _precheck(args)
     write_json(f"{args.out}/categories.json", category_table(), elsewhere="choose another --out")
     failed = []
     bar = progress_bar(args.num, "houses", "house", not args.quiet and args.num > 1)
@@ -126,7 +139,7 @@ def run(args: argparse.Namespace) -> int:
                 failed.append(str(err))
                 bar.update()
                 continue
-            path = write_house(house, args.out, preview=not args.no_preview)
+            path = write_house(house, args.out, preview=not args.no_preview, overwrite=args.overwrite)
             bar.update()
             if args.num == 1 and not args.quiet:
                 print(f"wrote {path}", file=sys.stderr)
@@ -143,3 +156,20 @@ def run(args: argparse.Namespace) -> int:
     if not args.quiet:
         print(f"{args.num} house(s) written to {args.out}", file=sys.stderr)
     return 0
+
+
+def _precheck(args: argparse.Namespace) -> None:
+    """Refuse, before any house is generated, a folder of ``--out`` that holds a house of another
+    generator, placement, size or room than asked (``house_folder.precheck``; without ``--overwrite``)."""
+    from pathlib import Path
+
+    from objsearch.house.house_folder import precheck
+    from objsearch.house.rooms import room_house_id
+    from objsearch.house.stages import house_id
+
+    wanted = {"generator_version": args.generator, "placement": args.placement, "room": args.room}
+    if args.rooms is not None:
+        wanted["size_class"] = args.rooms
+    for seed in range(args.seed, args.seed + args.num):
+        name = room_house_id(seed, args.split, args.room) if args.room else house_id(seed, args.split)
+        precheck(Path(args.out) / name, wanted, args.overwrite)

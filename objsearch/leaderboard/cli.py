@@ -271,11 +271,13 @@ def run_verify(args: argparse.Namespace) -> int:
     from objsearch.leaderboard.validate import (
         DETECT_FRACTION,
         DETECT_PROBABILITY,
+        check_submission,
         load_submission,
         miss_probability,
         replay_count,
         replay_units,
         sample_size,
+        untrusted_code,
         verify_submission,
     )
 
@@ -286,16 +288,19 @@ def run_verify(args: argparse.Namespace) -> int:
     paths = _stored(args.dir) if args.all else [_entry_path(args.dir, e) for e in args.entries]
     if not paths:
         raise UserError(f"no stored entries under {Path(args.dir)} to verify")
-    start, passed, failure = time.monotonic(), {}, None
-    for path in paths:
+    start, passed, failures = time.monotonic(), {}, []
+    for path in paths:  # every one: an entry that does not pass does not keep the others from being checked
         t = time.monotonic()
         results = load_submission(path)
         total = len(replay_units(results)) if isinstance(results.get("episodes"), list) else 0
         k = total if args.episodes == "all" else args.episodes
         problems = verify_submission(results, k, trust=args.trust)
         if problems:
-            failure = UserError(f"submission {path} fails verification: " + "; ".join(problems))
-            break
+            refused = not args.trust and not check_submission(results) and untrusted_code(results["agent"])
+            said = "is not replayed (not verified)" if refused else "fails verification"
+            failures.append(f"submission {path} {said}: " + "; ".join(problems))
+            print(f"{'not replayed' if refused else 'failed'}: {path}")
+            continue
         replayed = replay_count(results, k)
         print(
             f"verified: {path} ({replayed} of {total} episodes, drawn at random, replayed identical, "
@@ -310,8 +315,12 @@ def run_verify(args: argparse.Namespace) -> int:
             )
         passed[path] = (results, replayed, total)
     _record_verified(args.dir, passed)
-    if failure is not None:
-        raise failure
+    if len(failures) == 1:
+        raise UserError(failures[0])
+    if failures:
+        raise UserError(
+            f"{len(failures)} of {len(paths)} entries did not pass ({len(passed)} did): " + " | ".join(failures)
+        )
     if len(paths) > 1:
         print(f"verified {len(paths)} entries in {time.monotonic() - start:.0f} s")
     return 0

@@ -16,6 +16,8 @@ The recipe of a training run is the ``command.txt`` shipped beside its checkpoin
 seed, else of seed 0 with the seed changed), or the agent's default; a ``--set`` naming a
 file of another run (``pretrained``, ``explorer``) makes that run a step it needs.
 ``--dry-run`` prints the plan with each step's estimated time (``reproduce_cost``).
+A stored entry that the plan did not write (a shipped one, say) is never replaced, nor a full
+entry by a partial one, unless ``--replace`` is given: the plan refuses before any step runs.
 ``--executor ray`` runs the training runs and evaluations as Ray tasks (the records are
 the local run's); add, verify and render run here.
 """
@@ -48,6 +50,7 @@ def add_parser(subparsers) -> None:
         ("--runs", {"type": positive_int, "help": "training runs per learned method (default: 3; 1 on gridworld)"}),
         ("--out", {"metavar": "DIR", "help": f"everything in DIR: DIR/checkpoints, DIR/leaderboard, results and step records (default: the shipped agents/checkpoints and leaderboard/, work files in {WORK})"}),
         ("--leaderboard", {"metavar": "DIR", "help": "the leaderboard to add to (default: ./leaderboard, DIR/leaderboard with --out)"}),
+        ("--replace", {"action": "store_true", "help": "replace stored entries of the same names, shipped or verified ones too (default: refuse any entry that this reproduction did not write, and a partial entry in a full one's place)"}),
         ("--config", {"choices": ("paper", "tiny"), "default": "paper", "help": "tiny: a test-sized run (needs --out): 1 run of 2000 training steps (50 episodes on gridworld), gt only, the first split and seed, 10-step episodes, 5 episodes verified; its entries are partial (default: paper)"}),
         ("--train-budget", {"type": positive_int, "metavar": "N", "help": "training steps (house) or episodes (gridworld) of every run (default: its recipe's)"}),
         ("--train-set", {"type": key_value, "action": "append", "default": [], "metavar": "KEY=VALUE", "help": "a training config field for every run; repeatable"}),

@@ -348,6 +348,8 @@ def _entry_steps(
     common = {"leaderboard": str(plan.leaderboard), "results": str(results), "entry": entry, "stored": str(stored)}
     common["checkpoints"] = None if plan.checkpoints == plan.shipped else str(plan.checkpoints)
     key = f"{suite}/{entry}"
+    # the add step's record says which stored content the plan wrote: only that, it may replace unasked
+    added = {"replace": bool(getattr(args, "replace", False)), "record": str(plan.record(Step("add", key)))}
     return [
         Step(
             "eval",
@@ -356,7 +358,7 @@ def _entry_steps(
             {**config, "suite_config": suite_config, "batch": args.batch, "results": str(results)}
             | {"checkpoints": common["checkpoints"]},
         ),
-        Step("add", key, [f"eval {key}"], common),
+        Step("add", key, [f"eval {key}"], common | added),
         Step(
             "verify",
             key,

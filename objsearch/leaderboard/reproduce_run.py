@@ -4,6 +4,7 @@ train``, ``evaluate``, ``objsearch leaderboard add``, ``verify`` and ``render``.
 
 from __future__ import annotations
 
+import json
 import os
 import sys
 import time
@@ -48,6 +49,7 @@ def execute(
 
     one_math_thread()  # small networks: more torch threads only fight whatever else runs
     todo = [step for step in plan.steps if not is_done(plan, step)]
+    check_replacements([step for step in todo if step.kind == "add"])  # before hours of training, not after
     finished = {step.id for step in plan.steps} - {step.id for step in todo}
     _say(f"{plan.title}: {len(plan.steps)} steps, {len(finished)} done already, {len(todo)} to run ({executor})")
     if executor == "ray":
@@ -61,6 +63,44 @@ def execute(
         f"reproduced {plan.title}: entries in {render['leaderboard']}"
         + (f", the table in {render['table']}" if render["heading"] else "")
     )
+
+
+def check_replacements(adds: list[Step]) -> None:
+    """Refuse (``UserError``) add steps whose stored entry the plan did not write (``_own``),
+    unless the plan has ``--replace``: a shipped, verified entry is never replaced unasked."""
+    theirs = [
+        a for a in (step.args for step in adds) if Path(a["stored"]).is_file() and not a["replace"] and not _own(a)
+    ]
+    if theirs:
+        first = theirs[0]["stored"]
+        more = f" (and {len(theirs) - 1} more: {', '.join(a['entry'] for a in theirs[1:])})" if len(theirs) > 1 else ""
+        raise UserError(
+            f"{first} holds an entry that this reproduction did not write ({_described(first)}){more}; it is left "
+            "as it is: pass --out DIR to put the reproduction's entries in DIR/leaderboard, or --replace to replace it"
+        )
+
+
+def _own(a: dict) -> bool:
+    """Whether the stored entry of the add step ``a`` holds what this plan's add step stored (its record)."""
+    from objsearch.leaderboard.validate import content_sha256, load_submission
+
+    try:
+        written = json.loads(Path(a["record"]).read_text()).get("stored_sha256")
+        return written is not None and written == content_sha256(load_submission(a["stored"]))
+    except (OSError, ValueError, AttributeError, UserError):
+        return False
+
+
+def _described(path: str) -> str:
+    """A stored entry in a few words: ``1500 episodes, verified by replay`` (or partial)."""
+    from objsearch.leaderboard.validate import load_submission, replayed_of
+
+    try:
+        entry = load_submission(path)
+    except UserError:
+        return "not readable as an entry"
+    words = [f"{len(entry.get('episodes') or [])} episodes", "verified by replay" if replayed_of(entry) else ""]
+    return ", ".join(w for w in [*words, "partial" if entry.get("partial") else ""] if w)
 
 
 def _execute_ray(plan: Plan, todo: list[Step], finished: set[str], address, workers, progress: bool) -> None:
@@ -110,8 +150,12 @@ def _remote_step(kind: str, args: dict) -> float:
 def _finish(plan: Plan, step: Step, wall_s: float, executor: str) -> None:
     """Record that ``step`` finished, and how long it took (``--dry-run`` shows it)."""
     from objsearch.fileio import write_json
+    from objsearch.leaderboard.validate import content_sha256, load_submission
 
-    write_json(plan.record(step), {"step": step.id, "wall_s": round(wall_s, 1), "executor": executor})
+    record = {"step": step.id, "wall_s": round(wall_s, 1), "executor": executor}
+    if step.kind == "add":  # what it stored: a later run of the plan may replace that, and nothing else, unasked
+        record["stored_sha256"] = content_sha256(load_submission(step.args["stored"]))
+    write_json(plan.record(step), record)
     _say(f"{step.id}: done in {wall_s:.1f} s")
 
 
@@ -184,12 +228,26 @@ def _eval(a: dict, progress: bool, workers: int) -> None:
 
 
 def _add(a: dict, progress: bool, workers: int) -> None:
-    """``objsearch leaderboard add --replace`` (``--partial`` for results of some splits or seeds)."""
+    """``objsearch leaderboard add`` (``--partial`` for results of some splits or seeds), with
+    ``--replace`` only where the plan may replace the stored entry: it wrote it, or was given
+    ``--replace``; a partial entry takes a full one's place only with ``--replace``."""
     from objsearch.leaderboard.validate import check_submission, load_submission
 
     results = load_submission(a["results"])
     partial = bool(check_submission(results)) and not check_submission({**results, "partial": True})
-    flags = ["--name", a["entry"], "--replace", "--create"] + (["--partial"] if partial else [])
+    stored = Path(a["stored"])
+    replacing = stored.is_file()
+    if replacing:
+        check_replacements([Step("add", a["entry"], args=a)])
+        old = load_submission(stored)
+        if partial and not old.get("partial") and not a["replace"]:
+            raise UserError(
+                f"{stored} is full ({_described(stored)}); this reproduction's entry is partial "
+                f"({len(results['episodes'])} episodes: some splits, seeds or settings) and would take its place: "
+                "pass --out DIR to keep it apart, or --replace to replace the full one"
+            )
+        print(f"reproduce: replacing {stored} ({_described(stored)})", file=sys.stderr)
+    flags = ["--name", a["entry"], "--create"] + ["--replace"] * replacing + ["--partial"] * partial
     _command(["leaderboard", "--dir", a["leaderboard"], "add", a["results"], *flags])
 
 

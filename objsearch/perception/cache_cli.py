@@ -6,7 +6,9 @@ kind, size, current or why not: file sizes and headers are checked, not digests)
 leftover temp folders; ``objsearch cache verify``
 checks every file's sha256 (exit 2 if one is damaged); ``objsearch cache clear`` removes
 the caches that are not current (old versions, damaged: digests checked) and temp folders of killed builds,
-``--house ID`` every cache of a house, ``--all`` everything.
+``--house ID`` every cache of a house, ``--all`` every cache. Only folders objsearch made count
+(``cache_folder.cache_meta``, ``fileio.is_temp_folder``): anything else in the cache folder is
+left and named, and a link to a cache is never deleted through.
 
 It lives in ``perception`` (not in ``sim``, beside the caches) because a build may fill the
 perception network's predictions too: ``perception`` is the lowest layer that sees both."""
@@ -14,6 +16,7 @@ perception network's predictions too: ``perception`` is the lowest layer that se
 from __future__ import annotations
 
 import argparse
+import os
 from pathlib import Path
 
 from objsearch.cluster import add_executor_arguments, check_executor_arguments
@@ -83,7 +86,8 @@ def run_list(args: argparse.Namespace) -> int:
     folders = cache_folders(root)
     for c in folders:
         state = "current" if c["problem"] is None else f"not current: {c['problem']}"
-        print(f"{c['house']:<16} {c['kind']:<9} {format_size(c['bytes']):>7}  {state}  {c['path'].name}")
+        link = f" -> {os.path.realpath(c['path'])}" if c["link"] else ""
+        print(f"{c['house']:<16} {c['kind']:<9} {format_size(c['bytes']):>7}  {state}  {c['path'].name}{link}")
     abandoned = set(abandoned_temp_folders(root))
     temps = sorted(p for p in root.glob(".*.tmp") if p.is_dir()) if root.is_dir() else []
     for tmp in temps:
@@ -91,8 +95,23 @@ def run_list(args: argparse.Namespace) -> int:
         state = "left by an interrupted build" if tmp in abandoned else "a build in progress"
         print(f"{'(temp)':<16} {'':<9} {format_size(size):>7}  {state}  {tmp.name}")
     total = sum(c["bytes"] for c in folders)
-    print(f"{len(folders)} caches, {format_size(total)} in {root}")
+    print(f"{len(folders)} caches, {format_size(total)} in {root}" + _others(root, folders, "not listed:"))
     return 0
+
+
+def _others(root: Path, caches: list[dict], done: str) -> str:
+    """What ``root`` holds beside its caches (visible entries only), for the last line of
+    ``list`` and ``clear``: ``; DONE N folders and M files that are not objsearch caches: a, b, ...``."""
+    paths = {c["path"] for c in caches}
+    others = sorted(p for p in root.iterdir() if not p.name.startswith(".") and p not in paths) if root.is_dir() else []
+    if not others:
+        return ""
+    folders = sum(p.is_dir() for p in others)
+    counts = [
+        f"{n} {word}{'s' if n != 1 else ''}" for n, word in ((folders, "folder"), (len(others) - folders, "file")) if n
+    ]
+    names = ", ".join(p.name for p in others[:6]) + (f" and {len(others) - 6} more" if len(others) > 6 else "")
+    return f"; {done} {' and '.join(counts)} that {'is' if len(others) == 1 else 'are'} not objsearch caches: {names}"
 
 
 def run_verify(args: argparse.Namespace) -> int:
@@ -126,9 +145,13 @@ def run_verify(args: argparse.Namespace) -> int:
 
 
 def run_clear(args: argparse.Namespace) -> int:
-    """``objsearch cache clear``: remove stale caches (or ``--house``'s, or ``--all``) and abandoned temp folders."""
+    """``objsearch cache clear``: remove stale caches (or ``--house``'s, or ``--all``) and
+    abandoned temp folders: only folders that objsearch made (``cache_meta``, ``is_temp_folder``),
+    never through a symlink; what else the folder holds is left and named. ``UserError`` if a
+    cache could not be removed (what was removed is said first)."""
     import shutil
 
+    from objsearch.errors import UserError
     from objsearch.fileio import abandoned_temp_folders
     from objsearch.sim.cache import cache_folders
     from objsearch.sim.cache_folder import folder_bytes, format_size, locked
@@ -141,19 +164,37 @@ def run_clear(args: argparse.Namespace) -> int:
         doomed = [c for c in folders if c["house"] in args.house]
     else:
         doomed = [c for c in folders if c["problem"] is not None]
-    freed = 0
+    links = [c for c in doomed if c["link"]]  # its target may be anyone's: left, and said so
+    freed, removed, failed = 0, [], []
     for c in doomed:
+        if c["link"]:
+            continue
         with locked(c["path"]):  # not while it is being built
             shutil.rmtree(c["path"], ignore_errors=True)
-        freed += c["bytes"]
+        left = folder_bytes(c["path"]) if c["path"].exists() else 0
+        freed += c["bytes"] - left
+        (failed if c["path"].exists() else removed).append(c)
     for tmp in abandoned_temp_folders(root):
-        freed += folder_bytes(tmp)
+        size = folder_bytes(tmp)
         shutil.rmtree(tmp, ignore_errors=True)
+        freed += size - (folder_bytes(tmp) if tmp.exists() else 0)
     kept = [c for c in folders if c not in doomed]
     print(
-        f"removed {len(doomed)} caches, {format_size(freed)} freed; kept {len(kept)} current caches "
-        f"({format_size(sum(c['bytes'] for c in kept))}) in {root}" + ("" if not kept else "; --all removes them too")
+        f"removed {len(removed)} cache{'s' if len(removed) != 1 else ''}, {format_size(freed)} freed; kept "
+        f"{len(kept)} current caches ({format_size(sum(c['bytes'] for c in kept))}) in {root}"
+        + ("" if not kept else "; --all removes them too")
+        + _others(root, folders, "left")
     )
+    if links:
+        print(
+            f"left {len(links)} link{'s' if len(links) > 1 else ''} to a cache (not removed: objsearch does not delete "
+            "through links): " + ", ".join(f"{c['path'].name} -> {os.path.realpath(c['path'])}" for c in links)
+        )
+    if failed:
+        raise UserError(
+            f"could not remove {len(failed)} cache(s) in full: {', '.join(c['path'].name for c in failed)}; "
+            "check their permissions (or whether another process holds them), then run objsearch cache clear again"
+        )
     return 0
 
 

@@ -11,7 +11,8 @@ and the pose-graph version, so a changed house or camera never reads a stale cac
 whose metadata does not match is rebuilt. It is built in a temporary folder and renamed
 into place, so an interrupted build leaves nothing half-written. A cache-v2 folder of the
 same house and camera is converted instead of rendered again (the same bits: its
-millimetres divided as v2 read them), then removed. The cache directory is
+millimetres divided as v2 read them), then removed (``cache_folder.retire_folder``: only its own
+files are deleted, what else it holds is moved into the new cache). The cache directory is
 ``$OBJSEARCH_CACHE``, else ``~/.cache/objsearch``, or what the caller passes.
 
 Integrity: ``meta.json`` records the size and sha256 of the data file. ``open`` checks it
@@ -44,7 +45,6 @@ from __future__ import annotations
 import hashlib
 import json
 import os
-import shutil
 import sys
 import weakref
 from pathlib import Path
@@ -52,7 +52,7 @@ from typing import Callable, Protocol, Sequence
 
 import numpy as np
 
-from objsearch.sim.cache_folder import check_folder, ensure_folder, fill_arrays, folder_bytes, locked
+from objsearch.sim.cache_folder import cache_meta, check_folder, ensure_folder, fill_arrays, folder_bytes, retire_folder
 from objsearch.sim.camera import AGENT_CAMERA, AGENT_CAMERA_NAME, RenderSettings, check_predictor_camera
 from objsearch.sim.navgraph import NAVGRAPH_VERSION
 from objsearch.sim.renderer import HouseRenderer
@@ -315,17 +315,12 @@ class _Previous:
 
     def remove(self, converted: Path) -> None:
         """Remove the folder once it was converted into ``converted`` (nothing when it was
-        not), moving there first the files that others keep beside a cache (e.g. the
-        learned agents' tables: made from the same bits, so still right)."""
-        if not self.used:
-            return
-        with locked(self.directory):
-            ours = {"meta.json", *(f"{name}.npy" for name in self.layers)}
-            for path in self.directory.iterdir():
-                if path.is_file() and path.name not in ours and not (converted / path.name).exists():
-                    os.replace(path, converted / path.name)
-            shutil.rmtree(self.directory, ignore_errors=True)
-        print(f"removed {self.directory} (converted to {CACHE_VERSION})", file=sys.stderr)
+        not): what else it holds (e.g. the learned agents' tables: made from the same bits,
+        so still right) is moved there first, and only its own files are deleted
+        (``cache_folder.retire_folder``)."""
+        if self.used:
+            said = retire_folder(self.directory, converted, ["meta.json", *(f"{name}.npy" for name in self.layers)])
+            print(f"{said} (converted to {CACHE_VERSION})", file=sys.stderr)
 
 
 class Predictor(Protocol):
@@ -430,20 +425,21 @@ def _layers_of(meta: dict, kind: str) -> dict | None:
 
 
 def cache_folders(root: Path, digests: bool = False) -> list[dict]:
-    """Every cache in ``root``: {path, house, kind ("obs" or "predicted"), bytes, problem};
+    """Every cache objsearch made in ``root`` (``cache_meta``: any other folder is none of them):
+    {path, house, kind ("obs" or "predicted"), bytes, problem, link (a symlink to a cache)};
     ``problem`` None: of this version and intact (file sizes and .npy headers; with ``digests``, sha256s)."""
     out = []
     for path in sorted(p for p in root.iterdir() if p.is_dir() and not p.name.startswith(".")) if root.is_dir() else []:
-        try:
-            meta = json.loads((path / "meta.json").read_text())
-            version, house = meta.get("version"), meta.get("house_id", "?")
-        except (OSError, ValueError, AttributeError):
-            version, house = None, path.name.split("-")[0]
-        kind = "predicted" if "-pred-" in path.name else "obs"
-        size = folder_bytes(path)
-        if version != (PREDICTED_VERSION if kind == "predicted" else CACHE_VERSION):
-            problem = "no meta.json" if version is None else f"old version {version}"
+        meta = cache_meta(path)
+        if meta is None:
+            continue
+        kind = "predicted" if meta["version"].startswith("predicted-") else "obs"
+        if meta["version"] != (PREDICTED_VERSION if kind == "predicted" else CACHE_VERSION):
+            problem = f"old version {meta['version']}"
         else:
             problem = check_folder(path, layers=_layers_of(meta, kind), digests=digests)
-        out.append({"path": path, "house": house, "kind": kind, "bytes": size, "problem": problem})
+        size, link = folder_bytes(path), path.is_symlink()
+        out.append(
+            {"path": path, "house": meta["house_id"], "kind": kind, "bytes": size, "problem": problem, "link": link}
+        )
     return out

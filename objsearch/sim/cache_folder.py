@@ -10,6 +10,7 @@ import fcntl
 import io
 import json
 import os
+import re
 import shutil
 import sys
 from pathlib import Path
@@ -105,6 +106,56 @@ def check_folder(
         except (OSError, ValueError, KeyError, TypeError) as err:
             return f"{name} is unreadable ({err})"
     return None
+
+
+CACHE_VERSION_NAME = re.compile(r"(?:predicted-)?cache-v\d+")  # every version a cache's meta.json has recorded
+CACHE_NAME_REST = re.compile(r"[0-9a-f]{16}(?P<pred>-pred-.+)?")  # a cache folder's name after "<house_id>-"
+
+
+def cache_meta(directory: Path) -> dict | None:
+    """The ``meta.json`` of ``directory`` if it is a cache folder that objsearch made, else
+    None: the file a build wrote there, with a cache version (``cache-vN``, or
+    ``predicted-cache-vN``) and the house id that the folder's name starts with, the rest of
+    the name being the key (16 hex digits, then ``-pred-<predictor key>`` for predictions).
+    A folder is never taken for a cache by its name alone, or for being a folder: ``objsearch
+    cache clear`` removes only these, whatever else the cache folder holds."""
+    try:
+        meta = json.loads((directory / "meta.json").read_text())
+    except (OSError, ValueError):  # not there, unreadable, not JSON
+        return None
+    version, house = (meta.get("version"), meta.get("house_id")) if isinstance(meta, dict) else (None, None)
+    if not isinstance(version, str) or not isinstance(house, str) or not CACHE_VERSION_NAME.fullmatch(version):
+        return None
+    rest = (
+        CACHE_NAME_REST.fullmatch(directory.name[len(house) + 1 :]) if directory.name.startswith(f"{house}-") else None
+    )
+    if rest is None:
+        return None
+    return meta if bool(rest["pred"]) == version.startswith("predicted-") else None
+
+
+def retire_folder(old: Path, new: Path, ours: list[str]) -> str:
+    """Empty the cache folder ``old`` that ``new`` replaces, and say what became of it: every
+    file and folder in it but ``ours`` (what the cache itself wrote) is moved into ``new``
+    (one that ``new`` holds already, or that cannot be moved, e.g. to another filesystem,
+    stays), then ``ours`` are deleted, and ``old`` too once it is empty. Nothing else is
+    ever deleted; a symlink ``old`` is left as it is (its target may be anyone's)."""
+    if old.is_symlink():
+        return f"left {old}: a link to {os.path.realpath(old)}, which objsearch does not delete through; remove both"
+    with locked(old):  # not while another process converts it
+        for path in sorted(old.iterdir()) if old.is_dir() else []:
+            if path.name not in ours and not (new / path.name).exists() and not (new / path.name).is_symlink():
+                with contextlib.suppress(OSError):  # e.g. EXDEV: it stays where it is
+                    os.rename(path, new / path.name)
+        for name in ours:
+            if (old / name).is_file() and not (old / name).is_symlink():
+                (old / name).unlink()
+        left = sorted(p.name for p in old.iterdir()) if old.is_dir() else []
+        if not left:
+            with contextlib.suppress(FileNotFoundError):
+                old.rmdir()
+            return f"removed {old}"
+    return f"left {old}: it still holds {', '.join(left[:6])}{' ...' if len(left) > 6 else ''}, not the cache's"
 
 
 def npy_header(dtype, shape) -> bytes:

@@ -18,6 +18,7 @@ from objsearch.sim.cache import (
     PREVIOUS_PREDICTED_VERSION,
     HouseCache,
     PredictedCache,
+    _Previous,
     cache_key,
     quantize_depth,
 )
@@ -120,6 +121,8 @@ def test_a_cache_v2_folder_is_converted_not_rendered_again(small_world, built, t
     )
     pred = {"version": PREVIOUS_PREDICTED_VERSION, "observations": old_key, "predictor": _Predictor.key}
     (old / "tables-v1.npz").write_bytes(b"kept beside the cache by an agent")
+    (old / "mydir" / "deeper").mkdir(parents=True)  # a folder in it: moved, never deleted
+    (old / "mydir" / "deeper" / "precious.txt").write_text("years of work")
     semantic = (arrays["semantic"] + 1).astype(np.uint8)
     _write_v2(
         tmp_path / f"{old.name}-pred-{_Predictor.key}", {**pred, **common}, {"depth": mm // 2, "semantic": semantic}
@@ -136,15 +139,71 @@ def test_a_cache_v2_folder_is_converted_not_rendered_again(small_world, built, t
     assert np.array_equal(cache.semantic, semantic) and np.array_equal(cache.depth, quantize_depth((mm // 2) / 1000))
     assert sorted(p.name for p in tmp_path.iterdir()) == sorted([house.directory.name, cache.directory.name])
     assert (house.directory / "tables-v1.npz").read_bytes() == b"kept beside the cache by an agent"
+    assert (house.directory / "mydir" / "deeper" / "precious.txt").read_text() == "years of work"
     err = capsys.readouterr().err
     assert err.count("converting") == 2 and err.count("removed") == 2
+
+
+def test_a_linked_cache_v2_folder_is_converted_and_left_where_it_is(small_world, built, tmp_path, capsys):
+    _, arrays = built
+    old_key = cache_key(small_world, SMALL, PREVIOUS_CACHE_VERSION)
+    elsewhere = tmp_path / "disk2" / "v2-cache"
+    meta = {"version": PREVIOUS_CACHE_VERSION, "key": old_key, "spec_sha256": small_world.spec_sha256}
+    meta |= {"navgraph": NAVGRAPH_VERSION, "house_id": small_world.house_id, "settings": SMALL.to_json()}
+    mm = np.rint(arrays["depth"] * 1000).astype(np.uint16)
+    _write_v2(
+        elsewhere, {**meta, "num_poses": len(mm)}, {"rgb": arrays["rgb"], "depth": mm, "semantic": arrays["semantic"]}
+    )
+    (elsewhere / "notes.txt").write_text("beside the v2 cache")
+    root = tmp_path / "caches"
+    root.mkdir()
+    (root / f"{small_world.house_id}-{old_key}").symlink_to(elsewhere)
+    house = HouseCache.open(small_world, SMALL, root, progress=False)
+    assert np.asarray(house.rgb).tobytes() == arrays["rgb"].tobytes()
+    err = capsys.readouterr().err
+    assert "converting" in err and "removed" not in err and "a link" in err
+    assert (root / f"{small_world.house_id}-{old_key}").is_symlink(), "a link is never followed to delete"
+    assert sorted(p.name for p in elsewhere.iterdir()) == [
+        "depth.npy",
+        "meta.json",
+        "notes.txt",
+        "rgb.npy",
+        "semantic.npy",
+    ]
+    assert main(["cache", "clear", "--cache-dir", str(root)]) == 0  # the old version, through a link: left, said so
+    out = capsys.readouterr().out
+    assert "removed 0 caches" in out and "left 1 link to a cache" in out and (elsewhere / "notes.txt").is_file()
+
+
+def test_a_cache_v2_folder_keeps_what_the_new_cache_has_already(small_world, built, tmp_path, capsys):
+    _, arrays = built
+    house = HouseCache.open(small_world, SMALL, tmp_path, progress=False)  # a current cache is there
+    (house.directory / "notes.txt").write_text("the new cache's")
+    old_key = cache_key(small_world, SMALL, PREVIOUS_CACHE_VERSION)
+    meta = {"version": PREVIOUS_CACHE_VERSION, "key": old_key, "spec_sha256": small_world.spec_sha256}
+    meta |= {"navgraph": NAVGRAPH_VERSION, "house_id": small_world.house_id, "settings": SMALL.to_json()}
+    mm = np.rint(arrays["depth"] * 1000).astype(np.uint16)
+    old = tmp_path / f"{small_world.house_id}-{old_key}"
+    _write_v2(old, {**meta, "num_poses": len(mm)}, {"rgb": arrays["rgb"], "depth": mm, "semantic": arrays["semantic"]})
+    (old / "notes.txt").write_text("the old cache's")
+    (old / "mine.txt").write_text("moved")
+    previous = _Previous(old, {**meta, "num_poses": len(mm)}, ("rgb", "semantic", "depth"), 16, 16)
+    previous.used = True  # as if the new cache had been filled from it
+    previous.remove(house.directory)
+    assert (house.directory / "notes.txt").read_text() == "the new cache's"
+    assert (house.directory / "mine.txt").read_text() == "moved"
+    assert sorted(p.name for p in old.iterdir()) == ["notes.txt"], "only its own files are deleted"
+    assert (old / "notes.txt").read_text() == "the old cache's"
+    assert "left" in capsys.readouterr().err
 
 
 def test_cache_commands(small_world, tmp_path, capsys):
     root = tmp_path / "caches"
     cache = HouseCache.open(small_world, SMALL, root, progress=False)
     assert f"cache {small_world.house_id}: " in capsys.readouterr().err, "a build says where and how big"
-    (root / "train_999999-0123456789abcdef").mkdir()  # an old cache: no meta.json
+    old = root / "train_999999-0123456789abcdef"  # a cache of an old version
+    old.mkdir()
+    (old / "meta.json").write_text(json.dumps({"version": "cache-v1", "house_id": "train_999999"}))
     dead = subprocess.Popen([sys.executable, "-c", "pass"])
     dead.wait()
     abandoned = root / f".{cache.directory.name}.{socket.gethostname()}.{dead.pid}.abcd1234.tmp"
@@ -155,7 +214,7 @@ def test_cache_commands(small_world, tmp_path, capsys):
     assert main(["cache", "list", "--cache-dir", str(root)]) == 0
     out = capsys.readouterr().out
     assert f"{small_world.house_id}" in out and "obs" in out and "current" in out
-    assert "not current: no meta.json" in out and "interrupted build" in out
+    assert "not current: old version cache-v1" in out and "interrupted build" in out
 
     assert main(["cache", "verify", "--cache-dir", str(root)]) == 2
     assert "objsearch cache clear" in capsys.readouterr().err
