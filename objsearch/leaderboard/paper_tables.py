@@ -1,9 +1,12 @@
 """``leaderboard/paper_tables.md``: the paper's Tables 1 and 2 (grid world), 3 (House3D) and 4
 (AI2-THOR, ``table4``) beside our results, then what no paper has: the suites beyond the paper,
-the relation studies (``relations``) and the size sweep (``sweep``)."""
+the relation studies (``relations``), the size sweep (``sweep``) and the fidelity curve
+(``fidelity``), whose every interval is
+shown over episodes and over houses (``objsearch.eval.house_bootstrap``)."""
 
 from __future__ import annotations
 
+from objsearch.leaderboard.fidelity import fidelity_rows, render_fidelity
 from objsearch.leaderboard.labels import number_label as _num
 from objsearch.leaderboard.labels import runs_label, training
 from objsearch.leaderboard.markdown import markdown_text
@@ -28,7 +31,7 @@ from objsearch.leaderboard.relations import (
     render_owed,
     render_relations,
 )
-from objsearch.leaderboard.sweep import render_sweep, sweep_rows
+from objsearch.leaderboard.sweep import render_sweep, render_sweep_owed, sweep_owed_rows, sweep_rows
 from objsearch.leaderboard.table4 import ordering_cells, render_ordering, render_table4, table4_rows
 
 
@@ -83,6 +86,8 @@ def render_paper_tables(submissions: list[tuple[str, dict]], relations: list[dic
             + render_owed(owed_rows(submissions))
             + render_breakdown(breakdown_rows(submissions))
             + render_sweep(sweep_rows(submissions))
+            + render_sweep_owed(sweep_owed_rows(submissions))
+            + render_fidelity(fidelity_rows(submissions))
         )
         + "\n"
     )

@@ -1,6 +1,6 @@
 """Generating ``leaderboard/README.md``, ``leaderboard/index.html``,
 ``leaderboard/paper_tables.md`` (the paper's Tables 1-4 beside ours) and, once the size sweep
-has entries, ``leaderboard/size_sweep.svg`` (``sweep``) from the stored submissions alone (``leaderboard/submissions/<suite>/<name>.json``).
+has entries, ``leaderboard/size_sweep.svg`` (``sweep``), and ``leaderboard/fidelity.svg`` (``fidelity``) once the fidelity suites have, from the stored submissions alone (``leaderboard/submissions/<suite>/<name>.json``).
 
 Partial submissions (``"partial": true``: fewer splits or seeds than the suite's standard)
 are never ranked: README.md lists them apart, after the ranked tables; index.html and
@@ -17,6 +17,8 @@ from pathlib import Path
 
 from objsearch.errors import UserError
 from objsearch.fileio import atomic_write
+from objsearch.leaderboard.fidelity import SVG_FILE as FIDELITY_SVG
+from objsearch.leaderboard.fidelity import fidelity_rows, fidelity_svg
 from objsearch.leaderboard.headline import headline_tables, project_readme, with_headline
 from objsearch.leaderboard.labels import (
     nonstandard_settings,
@@ -202,7 +204,11 @@ def render_html(tables: dict, relations: list[dict] = ()) -> str:
 
 def _write_together(texts: dict[Path, str]) -> None:
     """Write every file of ``texts`` to a temp file beside it, then rename them all: a failure
-    while writing (a full disk) leaves every previous file in place (``UserError``)."""
+    while writing (a full disk) leaves every previous file in place (``UserError``), and a
+    signal (SIGTERM, Ctrl-C) that comes during the renames waits until all are done
+    (``signals_deferred``): every entry and page is stored, or none."""
+    from objsearch.interrupt import signals_deferred
+
     path = None
     try:
         with contextlib.ExitStack() as stack:
@@ -210,6 +216,8 @@ def _write_together(texts: dict[Path, str]) -> None:
                 f = stack.enter_context(atomic_write(path))
                 f.write(text)
                 f.flush()  # a write error shows here, before any file is renamed
+            with signals_deferred():
+                stack.close()  # the renames
     except UserError as err:  # a full disk, as atomic_write words it
         raise UserError(f"{err}; the leaderboard is as it was: run the command again then") from None
     except OSError as err:
@@ -220,7 +228,8 @@ def _write_together(texts: dict[Path, str]) -> None:
 
 
 def render(root: str | Path, add: tuple[Path, dict] | None = None, store: dict[Path, dict] | None = None) -> list[Path]:
-    """Regenerate ``README.md``, ``index.html``, ``paper_tables.md`` (and ``size_sweep.svg``)
+    """Regenerate ``README.md``, ``index.html``, ``paper_tables.md`` (and ``size_sweep.svg``,
+    ``fidelity.svg``)
     under ``root`` from its stored submissions, and the results table of the project's README (``headline``); with
     ``add`` (path, results), store that submission as well, and with ``store`` ({path:
     results}) those, in the same write. Nothing is replaced unless every file is written.
@@ -243,6 +252,9 @@ def render(root: str | Path, add: tuple[Path, dict] | None = None, store: dict[P
     sweep = sweep_rows(full)
     if sweep:
         texts[root / SVG_FILE] = sweep_svg(sweep)
+    fidelity = fidelity_rows(full)
+    if fidelity:
+        texts[root / FIDELITY_SVG] = fidelity_svg(fidelity)
     readme = project_readme(root)
     if readme is not None:  # the project's README.md, when it holds the results table's markers
         texts[readme] = with_headline(readme.read_text(encoding="utf-8"), headline_tables(full), readme)

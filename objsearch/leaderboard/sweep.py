@@ -4,9 +4,12 @@ objects where they belong and shuffled (``docs/large_houses.md``).
 The sweep's suites (``house-size-N`` and ``house-size-N-shuffled``, N rooms, ``SWEEP_ROOMS``)
 are ``house-gen-3`` houses of one size each, the same houses, starts and targets in both
 placements. ``sweep_rows`` pairs every gt entry with ``frontier``'s on the same test episodes
-(SR and SPL gain with the paired 95% bootstrap interval); ``render_sweep`` is its table for
-``paper_tables.md`` and ``sweep_svg`` its plot (``leaderboard/size_sweep.svg``), both written by
-``objsearch leaderboard render``.
+(SR and SPL gain with the paired 95% bootstrap intervals over episodes and over houses: each
+size has 8 houses, and the house interval is the one that says whether a gain holds on other
+houses); ``render_sweep`` is its table for ``paper_tables.md`` and ``sweep_svg`` its plot
+(``leaderboard/size_sweep.svg``, error bars over houses), both written by ``objsearch
+leaderboard render``. ``sweep_owed_rows`` (``render_sweep_owed``): each size's functional gain
+minus its shuffled gain, paired by episode and by house.
 """
 
 from __future__ import annotations
@@ -15,7 +18,18 @@ import html
 import math
 
 from objsearch.eval.metrics import spl, success_rate
-from objsearch.leaderboard.relations import BOUNDS, REFERENCE, _gt, _name, _ordered, _split, paired_gain
+from objsearch.leaderboard.relations import (
+    BOUNDS,
+    REFERENCE,
+    _ci,
+    _gt,
+    _interval_table,
+    _name,
+    _ordered,
+    _split,
+    owed_row,
+    paired_gain,
+)
 
 #: The sweep's house sizes (rooms): ``objsearch.sim.large_suite.SWEEP``'s, which builds their suites (a
 #: copy, so that the pages import no MuJoCo; a test keeps the two the same).
@@ -32,7 +46,8 @@ def sweep_suite(rooms: int, placement: str) -> str:
 
 def sweep_rows(submissions: list[tuple[str, dict]], split: str = "test") -> list[dict]:
     """Every gt entry of a sweep suite but ``REFERENCE`` and the bounds, with its SR and SPL and
-    its gain over ``REFERENCE`` on the same episodes and seeds (paired 95% interval), and
+    its gain over ``REFERENCE`` on the same episodes and seeds (paired 95% intervals over
+    episodes, ``sr_gain_ci``, and over houses, ``sr_gain_house_ci``: None without houses), and
     ``REFERENCE``'s own SR and SPL there; by method, size, placement."""
     rows = []
     for rooms in SWEEP_ROOMS:
@@ -50,6 +65,7 @@ def sweep_rows(submissions: list[tuple[str, dict]], split: str = "test") -> list
                 for key, _, measure in MEASURES:
                     row[key], row["reference_" + key] = measure(mine), measure(ref)
                     row[key + "_gain"], row[key + "_gain_ci"] = gain[key], gain[key + "_ci"]
+                    row[key + "_gain_house_ci"] = gain[key + "_house_ci"]
                 rows.append(row)
     order = _ordered({r["name"] for r in rows})
     return sorted(rows, key=lambda r: (order.index(r["name"]), r["rooms"]))
@@ -65,12 +81,16 @@ def render_sweep(rows: list[dict]) -> list[str]:
         "",
         "The size sweep (`house-size-N`, N rooms, and `house-size-N-shuffled`: the same houses, starts and targets",
         "with every object anywhere in the house). Each cell: the agent's SR or SPL on test minus",
-        f"`{REFERENCE}`'s on the same episodes, with the paired 95% bootstrap interval; `{REFERENCE}`'s own scores",
-        "(functional · shuffled) in the first column. A prior that uses where things are gains on functional houses and not on",
-        f"shuffled ones. gt observations, seed 1. The plot: [`{SVG_FILE}`]({SVG_FILE}).",
+        f"`{REFERENCE}`'s on the same episodes, with the paired 95% bootstrap interval over episodes, and beside it",
+        "the one over houses (a house and all its episodes drawn together: 8 houses a size, so the interval a",
+        f"claim must hold on); `{REFERENCE}`'s own scores (functional · shuffled) in the first column. A prior that",
+        "uses where things are gains on functional houses and not on shuffled ones. gt observations, seed 1.",
+        f"The plot, with the intervals over houses: [`{SVG_FILE}`]({SVG_FILE}).",
         "",
-        f"| Method | rooms | {REFERENCE} SR / SPL · shuffled | SR gain | SR gain shuffled | SPL gain | SPL gain shuffled |",
-        "|---|---|---|---|---|---|---|",
+        f"| Method | rooms | {REFERENCE} SR / SPL · shuffled | SR gain (95% CI over episodes) | over houses "
+        "| SR gain shuffled (95% CI over episodes) | over houses | SPL gain (95% CI over episodes) | over houses "
+        "| SPL gain shuffled (95% CI over episodes) | over houses |",
+        "|---" * 11 + "|",
     ]
     cells = {(r["name"], r["rooms"], r["placement"]): r for r in rows}
     for name in _ordered({r["name"] for r in rows}):
@@ -81,14 +101,51 @@ def render_sweep(rows: list[dict]) -> list[str]:
             reference = " · ".join(
                 "-" if r is None else f"{r['reference_sr']:.2f} / {r['reference_spl']:.2f}" for r in got
             )
-            gains = ["-" if r is None else _gain(r, key) for key in ("sr", "spl") for r in got]
+            gains = ["- | -" if r is None else _gain(r, key) for key in ("sr", "spl") for r in got]
             lines.append(f"| {_name(name)} | {rooms} | {reference} | " + " | ".join(gains) + " |")
     return lines
 
 
+def sweep_owed_rows(submissions: list[tuple[str, dict]], split: str = "test") -> list[dict]:
+    """Every gt entry on both placements of a sweep size but ``REFERENCE`` and the bounds: its
+    gain over ``REFERENCE`` on functional houses minus its gain on the same episodes shuffled
+    (``relations.owed_row``: what the gain owes to where things are), by method and size
+    (``suite``: the shuffled suite)."""
+    rows = []
+    for rooms in SWEEP_ROOMS:
+        base, moved = (_gt(submissions, sweep_suite(rooms, placement)) for placement in PLACEMENTS)
+        if REFERENCE not in base or REFERENCE not in moved:
+            continue
+        for name in _ordered(n for n in base if n in moved and n not in (REFERENCE, *BOUNDS)):
+            row = owed_row(base, moved, name, split)
+            if row is not None:
+                rows.append({"suite": sweep_suite(rooms, "shuffled"), "rooms": rooms, **row})
+    order = _ordered({r["name"] for r in rows})
+    return sorted(rows, key=lambda r: (order.index(r["name"]), r["rooms"]))
+
+
+def render_sweep_owed(rows: list[dict]) -> list[str]:
+    """The markdown of ``sweep_owed_rows``."""
+    text = (
+        f"Each agent's gain over `{REFERENCE}` on `house-size-N` minus its gain on `house-size-N-shuffled`, per test",
+        "episode (the same houses, starts and targets), with the paired 95% intervals over episodes and over houses:",
+        "above zero, the gain needs the objects where they belong. gt observations, seed 1.",
+    )
+    heading = f"Gain over `{REFERENCE}` against house size: what it owes to where things are"
+    return _interval_table(heading, text, "shuffled suite", "owed", rows)
+
+
 def _gain(row: dict, key: str) -> str:
-    low, high = row[key + "_gain_ci"]
-    return f"{row[key + '_gain']:+.2f} ({low:+.2f} to {high:+.2f})"
+    """Two cells: the gain with its interval over episodes, then its interval over houses."""
+    return f"{row[key + '_gain']:+.2f} ({_ci(row[key + '_gain_ci'])}) | {_ci(row[key + '_gain_house_ci'])}"
+
+
+def _bars(rows: list[dict]) -> tuple[str, str]:
+    """Which interval the plot's error bars show: ``_gain_house_ci`` (over houses) where every
+    row has one, else ``_gain_ci`` (over episodes); and its words for the titles."""
+    if all(r[key + "_gain_house_ci"] is not None for r in rows for key, _, _ in MEASURES):
+        return "_gain_house_ci", "95% CI over houses"
+    return "_gain_ci", "95% CI over episodes"
 
 
 # The plot's frame (px) and the colours of its methods, in order.
@@ -98,10 +155,12 @@ COLOURS = ("#1b6ca8", "#d1495b", "#2e933c", "#8e5ea2", "#edae49")
 
 def sweep_svg(rows: list[dict]) -> str:
     """``sweep_rows`` as an SVG: a panel for SR gain and one for SPL gain against rooms, a line a
-    method (solid: functional, dashed: shuffled) with its 95% intervals as bars."""
+    method (solid: functional, dashed: shuffled) with its 95% intervals over houses as bars
+    (over episodes where a record names no house; the titles say which)."""
     names = _ordered({r["name"] for r in rows})
-    lows = [min(r[k + "_gain_ci"][0] for r in rows) for k, _, _ in MEASURES]
-    highs = [max(r[k + "_gain_ci"][1] for r in rows) for k, _, _ in MEASURES]
+    bar, bar_words = _bars(rows)
+    lows = [min(r[k + bar][0] for r in rows) for k, _, _ in MEASURES]
+    highs = [max(r[k + bar][1] for r in rows) for k, _, _ in MEASURES]
     low, high = min(-0.05, *lows), max(0.05, *highs)
     low, high = math.floor(low * 10) / 10, math.ceil(high * 10) / 10
     span_x = SWEEP_ROOMS[-1] - SWEEP_ROOMS[0]
@@ -123,7 +182,7 @@ def sweep_svg(rows: list[dict]) -> str:
 
         out.append(
             f'<text x="{left + WIDTH / 2}" y="{MARGIN - 16}" text-anchor="middle" font-weight="bold">'
-            f"{label} gain over {REFERENCE} (95% CI)</text>"
+            f"{label} gain over {REFERENCE} ({bar_words})</text>"
         )
         out.append(f'<rect x="{left}" y="{MARGIN}" width="{WIDTH}" height="{HEIGHT}" fill="none" stroke="#888"/>')
         for tick in _ticks(low, high):
@@ -146,7 +205,7 @@ def sweep_svg(rows: list[dict]) -> str:
                 dash = "" if placement == "functional" else ' stroke-dasharray="5,4"'
                 out.append(f'<polyline points="{points}" fill="none" stroke="{colour}" stroke-width="2"{dash}/>')
                 for r in mine:
-                    cx, (ci_low, ci_high) = x(r["rooms"] + shift), r[key + "_gain_ci"]
+                    cx, (ci_low, ci_high) = x(r["rooms"] + shift), r[key + bar]
                     out.append(
                         f'<line x1="{cx:.1f}" x2="{cx:.1f}" y1="{y(ci_low):.1f}" y2="{y(ci_high):.1f}" '
                         f'stroke="{colour}"/>'

@@ -7,17 +7,39 @@ import xml.etree.ElementTree as ET
 import numpy as np
 import pytest
 
-from objsearch.leaderboard.relations import gain_rows, owed_rows
-from objsearch.leaderboard.sweep import SWEEP_ROOMS, render_sweep, sweep_rows, sweep_suite, sweep_svg
+from objsearch.leaderboard.relations import (
+    _ci,
+    gain_rows,
+    owed_rows,
+    relations_rows,
+    render_gains,
+    render_owed,
+    render_relations,
+)
+from objsearch.leaderboard.sweep import (
+    SWEEP_ROOMS,
+    render_sweep,
+    render_sweep_owed,
+    sweep_owed_rows,
+    sweep_rows,
+    sweep_suite,
+    sweep_svg,
+)
 
 
-def _entry(suite: str, successes: list[bool], seed: int = 1, perception_key: str | None = None) -> dict:
+def _entry(
+    suite: str, successes: list[bool], seed: int = 1, perception_key: str | None = None, houses: int = 0
+) -> dict:
     """A gt (or predicted) entry on ``suite``'s test split: episode i succeeds as ``successes[i]``,
-    in 10 steps of a shortest 5 (SPL 0.5)."""
+    in 10 steps of a shortest 5 (SPL 0.5); with ``houses``, episode i is in house ``i % houses``
+    (else its record names no house, as hand-made records may)."""
     episodes = [
         {"split": "test", "seed": seed, "episode_id": i, "success": ok, "steps": 10, "min_steps": 5, "spl": 0.5 * ok}
         for i, ok in enumerate(successes)
     ]
+    for i, r in enumerate(episodes):
+        if houses:
+            r["task"] = {"house": f"test_{i % houses:06d}"}
     suite_config = {"perception_key": perception_key} if perception_key else {}
     return {"suite": suite, "episodes": episodes, "config": {"suite_config": suite_config}}
 
@@ -41,6 +63,27 @@ def test_gain_over_frontier_is_paired_on_the_same_episodes_and_skips_other_seeds
     assert 0 < low < 0.25 < high < 0.5  # every pair differs by 0 or +1: the interval is above zero
 
 
+def test_gains_carry_an_interval_over_houses_beside_the_one_over_episodes():
+    # 40 episodes in 4 houses (episode i in house i % 4): the agent's extra successes all sit in
+    # houses 0 and 1, so over houses the gain is less certain than over episodes
+    extra = [i % 4 in (0, 1) and i < 24 for i in range(40)]
+    subs = [
+        ("frontier", _entry("house-large", _pattern(0.25), houses=4)),
+        ("object_prior_frontier", _entry("house-large", [a or b for a, b in zip(_pattern(0.25), extra)], houses=4)),
+    ]
+    (row,) = gain_rows(subs)
+    low, high = row["sr_ci"]
+    house_low, house_high = row["sr_house_ci"]
+    assert house_low <= low < row["sr"] < high <= house_high and house_high - house_low > high - low
+    table = "\n".join(render_gains([row]))
+    assert "| SR gain (95% CI over episodes) | SR gain, 95% CI over houses |" in table
+    assert f"| {row['sr']:+.2f} ({low:+.2f} to {high:+.2f}) | {house_low:+.2f} to {house_high:+.2f} |" in table
+    # records without houses: no house interval, and the table says so
+    (bare,) = gain_rows([(name, _entry("house-large", [r["success"] for r in e["episodes"]])) for name, e in subs])
+    assert bare["sr_house_ci"] is None and bare["sr_ci"] == row["sr_ci"]
+    assert "| n/a |" in "\n".join(render_gains([bare]))
+
+
 def test_owed_cancels_what_moving_the_objects_does_to_frontier():
     # moving the objects makes every episode easier for frontier and the agent alike: no debt
     same = [
@@ -58,18 +101,53 @@ def test_owed_cancels_what_moving_the_objects_does_to_frontier():
     ]
     (row,) = owed_rows(used)
     assert row["sr"] == pytest.approx(0.25) and row["sr_ci"][0] > 0
+    assert row["sr_house_ci"] is None  # hand-made records without houses
+    # in 4 houses of 10 episodes (episode i in house i % 4): the agent solves one more episode
+    # of each house than frontier (episodes 5-8 are one a house), +0.1 everywhere, and nothing
+    # more when the objects move: it owes exactly +0.1, so the house interval has no width
+    base = [i % 10 < 5 for i in range(40)]
+    housed = [
+        ("frontier", _entry("house-large", base, houses=4)),
+        (
+            "object_prior_frontier",
+            _entry("house-large", [ok or i in (5, 6, 7, 8) for i, ok in enumerate(base)], houses=4),
+        ),
+        ("frontier", _entry("house-large-shuffled", _pattern(0.5), houses=4)),
+        ("object_prior_frontier", _entry("house-large-shuffled", _pattern(0.5), houses=4)),
+    ]
+    (row,) = owed_rows(housed)
+    assert row["sr"] == pytest.approx(0.1) and row["sr_house_ci"] == pytest.approx([0.1, 0.1])
+    assert "SR owed, 95% CI over houses" in "\n".join(render_owed([row]))
 
 
-def _sweep_submissions() -> list[tuple[str, dict]]:
+def test_the_drop_tables_show_the_house_interval_beside_the_episode_one():
+    # 5 houses of 8 episodes (episode i in house i % 5): moving the objects turns 2 of each
+    # house's failures into successes, -0.25 in every house, so the house interval, which
+    # pairs the two placements by house, has no width; the episode one (0 or -1 a task) has
+    subs = [
+        ("frontier", _entry("house-large", _pattern(0.5), houses=5)),
+        ("frontier", _entry("house-large-shuffled", _pattern(0.75), houses=5)),
+    ]
+    (row,) = [r for r in relations_rows(subs) if r["name"] == "frontier"]
+    assert row["sr_drop"] == pytest.approx(-0.25)
+    low, high = row["sr_drop_house_ci"]
+    assert low == pytest.approx(-0.25) and high == pytest.approx(-0.25)
+    assert row["sr_drop_ci"][1] - row["sr_drop_ci"][0] > 0.1
+    table = "\n".join(render_relations([row]))
+    assert "| SR drop (95% CI over episodes) | SR drop, 95% CI over houses |" in table
+    assert f"| {low:+.2f} to {high:+.2f} |" in table
+
+
+def _sweep_submissions(houses: int = 0) -> list[tuple[str, dict]]:
     """frontier at 0.5 everywhere; a prior gaining 0.05 per size step on functional houses, none shuffled."""
     subs = []
     for k, rooms in enumerate(SWEEP_ROOMS):
         for placement, gain in (("functional", 0.05 * (k + 1)), ("shuffled", 0.0)):
             suite = sweep_suite(rooms, placement)
             subs += [
-                ("frontier", _entry(suite, _pattern(0.5))),
-                ("object_prior_frontier", _entry(suite, _pattern(0.5 + gain))),
-                ("random", _entry(suite, _pattern(0.0))),  # a bound, not a searcher: left out
+                ("frontier", _entry(suite, _pattern(0.5), houses=houses)),
+                ("object_prior_frontier", _entry(suite, _pattern(0.5 + gain), houses=houses)),
+                ("random", _entry(suite, _pattern(0.0), houses=houses)),  # a bound, not a searcher: left out
             ]
     return subs
 
@@ -100,6 +178,37 @@ def test_sweep_svg_is_a_plot_of_every_method_in_both_placements():
     assert any(t.text == "object_prior_frontier" for t in svg.findall(f"{ns}text"))
 
 
+def test_the_sweep_shows_and_plots_its_intervals_over_houses():
+    ns = "{http://www.w3.org/2000/svg}"
+    bare = sweep_rows(_sweep_submissions())
+    assert all(r["sr_gain_house_ci"] is None for r in bare)
+    titles = [t.text for t in ET.fromstring(sweep_svg(bare)).findall(f"{ns}text")]
+    assert "SR gain over frontier (95% CI over episodes)" in titles  # no houses: the episode bars, said so
+    rows = sweep_rows(_sweep_submissions(houses=8))
+    table = "\n".join(render_sweep(rows))
+    assert "| SR gain (95% CI over episodes) | over houses | SR gain shuffled (95% CI over episodes) |" in table
+    fourteen = next(r for r in rows if r["rooms"] == 14 and r["placement"] == "functional")
+    low, high = fourteen["sr_gain_house_ci"]
+    assert f"| +0.20 ({_ci(fourteen['sr_gain_ci'])}) | {low:+.2f} to {high:+.2f} |" in table
+    svg = ET.fromstring(sweep_svg(rows))
+    assert "SR gain over frontier (95% CI over houses)" in [t.text for t in svg.findall(f"{ns}text")]
+    # the SR panel's bars (functional by size, then shuffled) are as long as the house intervals
+    bars = [line for line in svg.findall(f"{ns}line") if line.attrib["x1"] == line.attrib["x2"]][: 2 * len(SWEEP_ROOMS)]
+    lengths = np.array([float(b.attrib["y1"]) - float(b.attrib["y2"]) for b in bars])  # y grows downwards
+    ordered = sorted(rows, key=lambda r: (r["placement"] != "functional", r["rooms"]))
+    widths = np.array([r["sr_gain_house_ci"][1] - r["sr_gain_house_ci"][0] for r in ordered])
+    assert widths.max() > 0 and np.allclose(lengths, widths * lengths.max() / widths.max(), atol=0.15)
+
+
+def test_the_sweep_says_what_each_sizes_gain_owes_to_where_things_are():
+    rows = sweep_owed_rows(_sweep_submissions(houses=8))
+    assert [(r["name"], r["rooms"]) for r in rows] == [("object_prior_frontier", n) for n in SWEEP_ROOMS]
+    # the functional gain (0.05 a size step) minus none shuffled, frontier the same on both
+    assert [round(r["sr"], 3) for r in rows] == [0.05, 0.1, 0.15, 0.2]
+    assert all(r["sr_house_ci"] is not None and r["suite"] == sweep_suite(r["rooms"], "shuffled") for r in rows)
+    assert "| SR owed (95% CI over episodes) | SR owed, 95% CI over houses |" in "\n".join(render_sweep_owed(rows))
+
+
 def test_the_report_names_the_suites_the_sweep_ships():
     # sweep.py keeps its own copy of the sizes so that the pages import no MuJoCo: it must match
     from objsearch.sim.large_suite import SWEEP
@@ -107,3 +216,22 @@ def test_the_report_names_the_suites_the_sweep_ships():
     assert SWEEP_ROOMS == tuple(SWEEP)
     for rooms, tier in SWEEP.items():
         assert tier.names == (sweep_suite(rooms, "functional"), sweep_suite(rooms, "shuffled"))
+
+
+def test_the_shipped_paper_tables_show_the_large_tiers_intervals_over_houses():
+    # the page is the render of the stored entries (test_leaderboard.py checks it is up to date)
+    from pathlib import Path
+
+    page = (Path(__file__).resolve().parents[2] / "leaderboard" / "paper_tables.md").read_text()
+    sections = {s.split("\n", 1)[0]: s for s in page.split("\n## ")[1:]}
+    wanted = {
+        "Does it use relations? house-large against house-large-shuffled": "SR drop, 95% CI over houses",
+        "The large-house tier: gain over `frontier`": "SR gain, 95% CI over houses",
+        "The large-house tier: what each agent owes to where things are, beyond `frontier`": "SR owed, 95% CI over houses",
+        "The large-house tier: SR and SPL over houses, by distance, and how it fails": "SR (95% CI over houses)",
+        "Gain over `frontier` against house size": "SR gain (95% CI over episodes) | over houses",
+        "Gain over `frontier` against house size: what it owes to where things are": "SR owed, 95% CI over houses",
+    }
+    for heading, column in wanted.items():
+        assert column in sections[heading], heading
+        assert "n/a" not in sections[heading], f"{heading}: every record of the tier names its house"
