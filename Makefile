@@ -5,7 +5,7 @@ BIN     := $(VENV)/bin
 STAMP   := $(VENV)/.installed
 export MUJOCO_GL ?= egl
 
-.PHONY: demo test bench leaderboard install clean
+.PHONY: demo test bench leaderboard leaderboard-tier2 install clean
 
 $(BIN)/python:
 	$(PY) -m venv $(VENV)
@@ -66,6 +66,10 @@ LEADERBOARD_HOUSE_REFERENCE ?= frontier
 LEADERBOARD_SWEEP_SUITES ?= house-size-4 house-size-4-shuffled house-size-7 house-size-7-shuffled \
 	house-size-10 house-size-10-shuffled house-size-14 house-size-14-shuffled
 LEADERBOARD_SWEEP_AGENTS ?= frontier room_prior_frontier object_prior_frontier
+# the large-house tier, version 2 (docs/large_houses.md): its goal caches are not kept, so it renders live
+TIER2_SUITES ?= house-large-v2 house-large-v2-shuffled house-large-v2-p50 house-large-v2-p25 house-large-v2-p75 \
+	house-large-v2-roomwise
+TIER2_AGENTS ?= frontier object_prior_frontier room_prior_frontier inspect_frontier
 # one shell step of the loops below: evaluate $$agent on $$suite on gt and on predicted observations, store both
 EVAL_GT_AND_PREDICTED = $(BIN)/objsearch-eval --agent $$agent --suite $$suite --batch 32 --quiet --out build/$$suite-$$agent.json && \
 	  $(BIN)/objsearch leaderboard add build/$$suite-$$agent.json --replace && \
@@ -94,6 +98,7 @@ leaderboard: $(STAMP)
 	  $(BIN)/objsearch-eval --agent $$agent --suite $$suite --batch 16 --quiet --out build/$$suite-$$agent.json || exit 1; \
 	done; done
 	$(BIN)/objsearch leaderboard add --replace $(foreach s,$(LEADERBOARD_SWEEP_SUITES),$(foreach a,$(LEADERBOARD_SWEEP_AGENTS),build/$(s)-$(a).json))
+	$(MAKE) leaderboard-tier2
 	for agent in $(LEADERBOARD_GRID_AGENTS); do \
 	  $(BIN)/objsearch-eval --agent $$agent --suite gridworld --workers 2 --batch 64 --quiet --out build/gridworld-$$agent.json && \
 	  $(BIN)/objsearch leaderboard add build/gridworld-$$agent.json --replace || exit 1; \
@@ -101,6 +106,15 @@ leaderboard: $(STAMP)
 	# replay a random sample of every stored entry, large enough to catch 5% altered records (docs/failure_modes.md)
 	$(BIN)/objsearch leaderboard verify --all
 	@echo "make leaderboard: $$(( $$(date +%s) - $$(cat build/.leaderboard-start) )) s"
+
+# the tier's version 2 alone, an entry at a time (10-12 minutes each on one core; an interrupted
+# evaluation resumes from its build/ file when rerun)
+leaderboard-tier2: $(STAMP)
+	mkdir -p build
+	for agent in $(TIER2_AGENTS); do for suite in $(TIER2_SUITES); do \
+	  $(BIN)/objsearch-eval --agent $$agent --suite $$suite --render live --batch 16 --quiet --out build/$$suite-$$agent.json && \
+	  $(BIN)/objsearch leaderboard add build/$$suite-$$agent.json --replace || exit 1; \
+	done; done
 
 clean:
 	rm -rf $(VENV) build *.egg-info

@@ -169,14 +169,14 @@ def grg_file(suite: str, checkpoint: str | os.PathLike | None = None) -> Path:
         if not path.is_file():
             raise UserError(f"--checkpoint {checkpoint}: no GRG file there; pass a grg.npz or a run folder holding one")
         return path
-    from objsearch_agents.house.agent import default_checkpoint, generalisation_checkpoint
+    from objsearch_agents.house.agent import checkpoint_source, default_checkpoint, generalisation_checkpoint
 
     policy = default_checkpoint(suite, GRG_RUN)
     if policy is None:
         policy, generator = generalisation_checkpoint(suite, GRG_RUN)
         if policy is None:
             raise UserError(
-                f"grg_frontier: no GRG is shipped for suite {suite} (houses of generator {generator or 'several'}); "
+                f"grg_frontier: no GRG is {checkpoint_source()} for suite {suite} (houses of generator {generator or 'several'}); "
                 f"train one on its training houses with `objsearch train --agent {GRG_RUN} --suite {suite}` and pass "
                 "--checkpoint RUN_FOLDER"
             )

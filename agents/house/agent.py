@@ -37,13 +37,28 @@ ROOT = CHECKPOINTS.parent.parent  # the checkout: shipped configs name their inp
 
 # generator version -> the suite whose checkpoints were trained for unseen houses of that generator
 # (its training houses, evaluated on other houses of the generator)
-GENERALISATION_SUITES = {"house-gen-1": "house-gen", "house-gen-2": "house-gen-v2", "house-gen-3": "house-large"}
+GENERALISATION_SUITES = {
+    "house-gen-1": "house-gen",
+    "house-gen-2": "house-gen-v2",
+    "house-gen-3": "house-large",
+    "house-gen-4": "house-large-v2",
+}
 
 
 def checkpoint_root() -> Path:
     """Where agents find their training runs: ``$OBJSEARCH_CHECKPOINTS`` (``CHECKPOINTS_ENV``)
     if set, else the shipped ``CHECKPOINTS``."""
     return Path(os.environ.get(CHECKPOINTS_ENV) or CHECKPOINTS)
+
+
+def checkpoint_source() -> str:
+    """Where agents look for their runs, as messages say it: ``shipped``, or ``in
+    $OBJSEARCH_CHECKPOINTS (PATH)`` (with ``, no such folder`` when it is not one)."""
+    root = os.environ.get(CHECKPOINTS_ENV)
+    if not root:
+        return "shipped"
+    missing = "" if Path(root).is_dir() else ", no such folder"
+    return f"in ${CHECKPOINTS_ENV} ({root}{missing})"
 
 
 def default_checkpoint(suite: str, name: str) -> Path | None:
@@ -139,7 +154,7 @@ class HouseAgent(OneSlotBatch):
             if path is None:
                 run = f"runs/{Path(suite).stem}/{name}-seed0"
                 raise UserError(
-                    f"no {name} checkpoint is shipped for suite {suite} (houses of generator {generator or 'several'}: "
+                    f"no {name} checkpoint is {checkpoint_source()} for suite {suite} (houses of generator {generator or 'several'}: "
                     f"checkpoints for unseen houses exist for {', '.join(GENERALISATION_SUITES)}); train one with "
                     f"`objsearch train --agent {name} --suite {suite}` (it writes {run}) and pass --checkpoint {run}"
                 )
@@ -273,7 +288,8 @@ class HouseAgent(OneSlotBatch):
             explorer = default_checkpoint(suite, "a3c")
             if explorer is None:
                 raise UserError(
-                    f"{cls.agent_name()} runs a trained a3c in its back-up node and none is shipped for suite {suite}: "
+                    f"{cls.agent_name()} runs a trained a3c in its back-up node and none is {checkpoint_source()} for suite "
+                    f"{suite}: "
                     "train one (objsearch train --agent a3c) and pass --set explorer=PATH/policy.pt"
                 )
             overrides = {"explorer": os.path.relpath(explorer, ROOT), "explorer_target": "true", **overrides}

@@ -92,7 +92,7 @@ def configure(parser: argparse.ArgumentParser) -> argparse.ArgumentParser:
     parser.add_argument(
         "--render",
         choices=("cached", "live"),
-        help="house suites: pre-rendered observations (default) or render each step",
+        help="house suites: pre-rendered observations (default; live for house-large-v2's suites) or render each step",
     )
     parser.add_argument(
         "--cache-dir", help="house suites: observation cache folder (default: $OBJSEARCH_CACHE or ~/.cache/objsearch)"

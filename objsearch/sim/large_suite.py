@@ -44,7 +44,6 @@ from objsearch.house.validate import validate_house
 from objsearch.sim.goals import PROTOCOLS, GoalRule
 from objsearch.sim.world import HouseRef, World
 
-GENERATOR = "house-gen-3"
 RULE = GoalRule(kind="near_visible", min_pixels=5, max_distance=1.0)
 PROTOCOL = replace(PROTOCOLS["objectnav"], goal_rule=RULE)
 
@@ -67,6 +66,10 @@ class Tier:
         targets: the small targets it may draw (None: all); of these, those with goal poses in
             at least ``target_share`` of the evaluation houses (and one) in every placement.
         target_share: see ``targets``.
+        generator: the generator version of its houses.
+        keep_goal_caches: whether the build renders the goal camera's caches into the cache
+            folder (False: no cache, only the poses near a target are rendered, for a tier whose
+            caches would fill a disk and whose suites render live; the same goal poses).
     """
 
     placements: dict[str, str]
@@ -80,6 +83,8 @@ class Tier:
     seeds_played: tuple[int, ...] = (1,)
     targets: tuple[str, ...] | None = None
     target_share: float = 0.5
+    generator: str = "house-gen-3"
+    keep_goal_caches: bool = True
 
     @property
     def names(self) -> tuple[str, ...]:
@@ -122,7 +127,48 @@ SWEEP = {
     )
     for rooms in SWEEP_ROOMS
 }
-TIERS = {name: tier for tier in (LARGE, *SWEEP.values()) for name in tier.names}
+#: The targets ``LARGE`` drew (all its small targets in half its evaluation houses), and its second
+#: version draws among, so that the two versions ask for the same things.
+LARGE_TARGETS = (
+    "alarm_clock",
+    "book",
+    "bottle",
+    "candle",
+    "cup",
+    "plate",
+    "pot",
+    "remote_control",
+    "soap",
+    "toilet_paper",
+    "vase",
+)
+#: The large-house tier, version 2 (``docs/large_houses.md``): ``house-gen-4`` houses, whose
+#: floorplans vary (L, T, U, two hallways, open plans, rooms entered through rooms), enough of
+#: them for intervals over houses (100 training, 10 validation, 50 test), and the fidelity dial
+#: over the same floorplans, starts and targets: a share p of the objects moved anywhere
+#: (p = 0.25, 0.5, 0.75, 1) or, at p = 1, within room types. Its goal caches (360 houses in six
+#: placements, about 40 GB) are not kept: its suites are evaluated rendering live.
+LARGE_V2 = Tier(
+    placements={
+        "house-large-v2": "functional",
+        "house-large-v2-p25": "anywhere-25",
+        "house-large-v2-p50": "anywhere-50",
+        "house-large-v2-p75": "anywhere-75",
+        "house-large-v2-shuffled": "anywhere-100",
+        "house-large-v2-roomwise": "roomwise-100",
+    },
+    size_class="xlarge",
+    seeds={"train": range(10000, 10400), "val": range(11000, 11100), "test": range(12000, 12200)},
+    counts={"train": 100, "val": 10, "test": 50},
+    episodes={"val": 200, "test": 500},
+    min_geodesic=12.0,
+    min_room_hops=3,
+    build_seed=60,
+    targets=LARGE_TARGETS,
+    generator="house-gen-4",
+    keep_goal_caches=False,
+)
+TIERS = {name: tier for tier in (LARGE, *SWEEP.values(), LARGE_V2) for name in tier.names}
 # The large tier's values, by the names the tests and docs use.
 PLACEMENTS = LARGE.placements
 MIN_GEODESIC, MIN_ROOM_HOPS = LARGE.min_geodesic, LARGE.min_room_hops
@@ -134,7 +180,7 @@ def house_ref(tier: Tier, seed: int, split: str, placement: str) -> HouseRef:
         seed=seed,
         split=split,
         size_class=tier.size_class,
-        generator=GENERATOR,
+        generator=tier.generator,
         placement=None if placement == "functional" else placement,
     )
 
@@ -167,7 +213,7 @@ def pick_houses(tier: Tier, part: str) -> list[dict[str, World]]:
             picked.append(worlds)
             if len(picked) == count:
                 return picked
-    raise RuntimeError(f"only {len(picked)} of {count} valid {GENERATOR} houses among seeds {seeds}")
+    raise RuntimeError(f"only {len(picked)} of {count} valid {tier.generator} houses among seeds {seeds}")
 
 
 def room_hops(spec: HouseSpec) -> np.ndarray:
@@ -239,19 +285,34 @@ def build_tier_suite(name: str, cache_dir: str | None = None) -> dict:
 
 @lru_cache(maxsize=1)
 def _build_tier(base: str, cache_dir: str | None) -> dict[str, dict]:
-    """The suite files of the tier whose base suite is ``base`` (by name), built together from
-    their fixed seeds (the module docstring); once a process (``objsearch suite rebuild`` of a
-    tier's names builds once)."""
-    from objsearch.sim.suite_record import _goal_ids, _suite_record, house_entry
+    """The suite files of the tier whose base suite is ``base`` (by name); once a process
+    (``objsearch suite rebuild`` of a tier's names builds once)."""
+    return build_tier(TIERS[base], cache_dir)
 
-    tier = TIERS[base]
+
+def _tier_goal_ids(tier: Tier, world: World, cache_dir: str | None) -> dict[str, np.ndarray]:
+    """The goal poses of every small target in ``world`` by the tier's rule: from its goal
+    camera's cache in ``cache_dir``, or (``keep_goal_caches`` False) rendering only the poses
+    near a target (``suite_record._near_goal_ids``: the same poses, no cache)."""
+    from objsearch.sim.suite_record import _goal_ids, _near_goal_ids
+
+    if tier.keep_goal_caches:
+        return _goal_ids(world, SMALL_TARGETS, cache_dir, RULE)
+    return _near_goal_ids(world, SMALL_TARGETS, RULE)
+
+
+def build_tier(tier: Tier, cache_dir: str | None = None) -> dict[str, dict]:
+    """The suite files of ``tier``, by name, built together from its fixed seeds (the module
+    docstring)."""
+    from objsearch.sim.suite_record import _suite_record, house_entry
+
     groups = {part: pick_houses(tier, part) for part in tier.counts}
     parts = tuple(tier.episodes)  # the evaluation splits
     placed: dict[str, dict[str, _Placed]] = {p: {} for p in tier.placements.values()}  # placement -> house -> _Placed
     for part in parts:
         for worlds in groups[part]:
             for placement, world in worlds.items():
-                goal_ids = _goal_ids(world, SMALL_TARGETS, cache_dir, RULE)
+                goal_ids = _tier_goal_ids(tier, world, cache_dir)
                 placed[placement][world.house_id] = _Placed(tier, world, goal_ids)
     candidates = tier.targets or SMALL_TARGETS
     targets = sorted(set.intersection(*(_common_targets(candidates, tier.target_share, placed[p]) for p in placed)))

@@ -1,6 +1,7 @@
 """The parts of a house suite file that every builder of one makes the same way (``suite_build``'s
 recipes and ``suite_from_houses``, ``rooms_suite``, ``large_suite``): a house's entry
-(``house_entry``), the goal poses of its targets (``_goal_ids``, ``_goal_table``), episodes drawn
+(``house_entry``), the goal poses of its targets (``_goal_ids``, ``_goal_table``; ``_near_goal_ids``
+without a cache), episodes drawn
 with their starts (``_episodes``) and the file's record with the settings every suite records
 (``_suite_record``). The names with ``_`` are the builders' own, not an API.
 """
@@ -27,6 +28,53 @@ def _goal_ids(world: World, targets, cache_dir, rule: GoalRule) -> dict[str, np.
     semantic, depth = np.asarray(cache.semantic), np.asarray(cache.depth)
     found = {target: goal_poses(semantic, depth, CATEGORY_IDS[target], rule) for target in targets}
     return {target: ids for target, ids in found.items() if len(ids)}
+
+
+def _near_goal_ids(world: World, targets, rule: GoalRule) -> dict[str, np.ndarray]:
+    """``_goal_ids`` of a ``near_visible`` rule without a cache: only the poses that could see
+    a target nearer than ``rule.max_distance`` are rendered (``candidate_poses``), with the
+    goal camera and the cache's depth rounding, so the goal poses are the same."""
+    from objsearch.sim.cache import BATCH, quantize_depth
+    from objsearch.sim.renderer import HouseRenderer
+
+    if rule.kind != "near_visible":
+        raise ValueError(f"only a near_visible rule needs no cache, not {rule.kind!r}")
+    candidates = {t: candidate_poses(world, t, rule.max_distance) for t in targets}
+    ids = np.unique(np.concatenate([np.zeros(0, np.int64), *candidates.values()]))
+    semantic = np.zeros((len(ids), GOAL_CAMERA.height, GOAL_CAMERA.width), np.uint8)
+    depth = np.zeros(semantic.shape, np.float32)
+    poses = world.graph.world_poses(ids)
+    with HouseRenderer(world.model, GOAL_CAMERA) as renderer:
+        for start in range(0, len(ids), BATCH):
+            frames = renderer.render(poses[start : start + BATCH])
+            semantic[start : start + BATCH], depth[start : start + BATCH] = frames.semantic, quantize_depth(frames.depth)
+    found = {t: ids[goal_poses(semantic, depth, CATEGORY_IDS[t], rule)] for t in targets}
+    return {t: found_ids for t, found_ids in found.items() if len(found_ids)}
+
+
+def candidate_poses(world: World, target: str, max_distance: float) -> np.ndarray:
+    """Pose ids (sorted) of ``world`` whose goal camera could see a point of a ``target`` object
+    at depth ``max_distance`` or less: a point at that depth lies within ``max_distance`` times
+    sqrt(1 + 2 tan^2(fov / 2)) of the camera (the corner of a square image), so the pose is
+    that near an object's bounding sphere and, seen from above, faces it within half the field
+    of view plus the sphere's angular radius. A superset of the goal poses, by geometry alone."""
+    half = np.radians(GOAL_CAMERA.fovy) / 2
+    reach = max_distance * np.sqrt(1 + 2 * np.tan(half) ** 2)
+    graph = world.graph
+    poses = graph.world_poses()
+    keep = np.zeros(len(poses), dtype=bool)
+    for obj in world.spec.objects:
+        if obj.category != target:
+            continue
+        radius = float(np.linalg.norm(obj.size)) + 0.05  # size as full or half extents: a sphere holding the object
+        dx, dy = obj.position[0] - poses[:, 0], obj.position[1] - poses[:, 1]
+        dz = obj.position[2] - GOAL_CAMERA.camera_height
+        near = np.sqrt(dx**2 + dy**2 + dz**2) <= reach + radius
+        flat = np.hypot(dx, dy)
+        off = np.abs((np.arctan2(dy, dx) - poses[:, 2] + np.pi) % (2 * np.pi) - np.pi)
+        spread = np.arcsin(np.clip(radius / np.maximum(flat, 1e-9), 0.0, 1.0))
+        keep |= near & ((flat <= radius) | (off <= half + spread))
+    return np.flatnonzero(keep)
 
 
 def _goal_table(world: World, targets, cache_dir, rule: GoalRule = PROTOCOLS["paper"].goal_rule) -> dict[str, list]:

@@ -1,12 +1,27 @@
-"""The large-house tier's three suite files and the size sweep's eight: the same houses, starts
-and targets under each tier's placements, and starts that are far from the target in every one
-(checked against the houses regenerated from their seeds, not against the file's own numbers)."""
+"""The large-house tier's suite files (version 1's three, version 2's six) and the size sweep's
+eight: the same houses, starts and targets under each tier's placements, and starts that are far
+from the target in every one (checked against the houses regenerated from their seeds, not
+against the file's own numbers); goal poses found without a cache are the cache's."""
+
+import tempfile
+from dataclasses import replace
 
 import numpy as np
 import pytest
 
 from objsearch.house.gen3.build import MAX_TARGET_INSTANCES, SMALL_TARGETS
-from objsearch.sim.large_suite import PLACEMENTS, SWEEP, SWEEP_TARGETS, TIERS, room_hops
+from objsearch.sim.large_suite import (
+    LARGE_TARGETS,
+    LARGE_V2,
+    PLACEMENTS,
+    RULE,
+    SWEEP,
+    SWEEP_TARGETS,
+    TIERS,
+    house_ref,
+    room_hops,
+)
+from objsearch.sim.suite_record import _goal_ids, _near_goal_ids
 from objsearch.sim.suites import load_suite_file
 from objsearch.sim.world import HouseRef, World
 
@@ -54,7 +69,41 @@ def test_the_sweep_plays_one_house_size_the_same_targets_and_episodes_functional
     assert same[0] == same[1] and len(same[0]) == 150
 
 
-@pytest.mark.parametrize("name", [*PLACEMENTS, SWEEP[4].names[1], SWEEP[14].names[0]])
+def test_version_2_has_enough_houses_and_the_same_episodes_in_its_six_placements():
+    base = SUITES["house-large-v2"]
+    assert base["protocol"] == "objectnav" and base["max_steps"] == 500 and base["seeds"] == [1]
+    assert base["goal_rule"] == SUITES["house-large"]["goal_rule"]  # the tier's rule for small targets
+    assert set(base["categories"]["targets"]) <= set(LARGE_TARGETS)
+    assert len(base["training_houses"]) == 100 and len(base["houses"]) == 60
+    assert {k: len(v) for k, v in base["splits"].items()} == {"val": 200, "test": 500}
+    assert len({e["house"] for e in base["splits"]["test"]}) == 50  # every test house plays
+    families = {World.load(HouseRef(**info)).spec.extra["floorplan"] for info in base["houses"].values()}
+    assert len(families) >= 3
+    for name, placement in LARGE_V2.placements.items():
+        suite = SUITES[name]
+        assert suite["houses"].keys() == base["houses"].keys()
+        assert suite["training_houses"].keys() == base["training_houses"].keys()
+        for house, info in suite["houses"].items():
+            assert info["seed"] == base["houses"][house]["seed"] and info["generator"] == "house-gen-4"
+            assert info.get("placement", "functional") == placement
+        for split, episodes in suite["splits"].items():
+            same = [(e["house"], e["start"], e["target"]) for e in episodes]
+            assert same == [(e["house"], e["start"], e["target"]) for e in base["splits"][split]]
+
+
+@pytest.mark.parametrize("placement", ["functional", "anywhere-50"])
+def test_goal_poses_found_without_a_cache_are_the_caches(placement):
+    world = World.load(house_ref(replace(LARGE_V2, size_class="rooms-6"), 5, "test", placement))  # small: fast
+    with tempfile.TemporaryDirectory() as tmp:
+        cached = _goal_ids(world, SMALL_TARGETS, tmp, RULE)
+    near = _near_goal_ids(world, SMALL_TARGETS, RULE)
+    assert near.keys() == cached.keys() and len(cached) >= 4
+    assert all(np.array_equal(near[t], cached[t]) for t in cached)
+
+
+@pytest.mark.parametrize(
+    "name", [*PLACEMENTS, SWEEP[4].names[1], SWEEP[14].names[0], "house-large-v2", "house-large-v2-p50"]
+)
 def test_starts_are_far_from_the_target_in_walking_and_in_rooms(name):
     suite, tier = SUITES[name], TIERS[name]
     houses = sorted(suite["houses"])[:2]
@@ -73,3 +122,11 @@ def test_starts_are_far_from_the_target_in_walking_and_in_rooms(name):
             assert metres >= tier.min_geodesic and np.isclose(metres, episode["geodesic"])
             room = int(world.cell_rooms[start // 4])
             assert room >= 0 and all(hops[room, h] >= tier.min_room_hops for h in holders)
+
+
+def test_version_2_renders_live_unless_told_and_the_others_from_caches():
+    from objsearch.eval.suites.house import HouseSuite
+
+    assert HouseSuite("house-large-v2-p50").config()["mode"] == "live"  # its caches would take tens of GB
+    assert HouseSuite("house-large-v2", mode="cached").mode == "cached"
+    assert HouseSuite("house-large").mode == "cached"

@@ -2,7 +2,8 @@
 and suite files made by ``objsearch suite make``, all played by ``HouseSuite``.
 
 Episodes come from the suite files of ``objsearch.sim.suites``; the env is
-``ObjSearch/House-v1`` in ``cached`` mode by default (``objsearch cache build --suite NAME``
+``ObjSearch/House-v1`` in ``cached`` mode by default (``live`` for ``house-large-v2``'s suites,
+whose caches would take about 40 GB; ``objsearch cache build --suite NAME``
 renders the caches ahead; otherwise an evaluation builds the missing ones first, as a stage
 of its own, ``HouseSuite.prepare``) or
 ``live``. Agents see ``objsearch.sim.camera.AGENT_CAMERA``; goal poses come from the suite
@@ -55,9 +56,17 @@ class HousePath:
         return moves + [STOP] * self.stop
 
 
+def default_mode(name: str) -> str:
+    """How suite ``name`` renders unless told: ``live`` for a tier whose caches are not kept
+    (``large_suite.Tier.keep_goal_caches``: tens of GB), else ``cached``."""
+    from objsearch.sim.large_suite import TIERS
+
+    return "live" if name in TIERS and not TIERS[name].keep_goal_caches else "cached"
+
+
 class HouseSuite:
     """A house suite: ``name`` is a shipped suite's name or a suite file's path. Options:
-    ``mode`` (``cached`` or ``live``), ``cache_dir``, ``max_steps``, ``observation`` (``gt`` or
+    ``mode`` (``cached`` or ``live``; default ``default_mode``), ``cache_dir``, ``max_steps``, ``observation`` (``gt`` or
     ``predicted``), ``perception`` (the predicted mode's checkpoint; default: the shipped one)
     and ``perception_key`` (if given, the checkpoint must have this key: results record it, so
     a resumed or validated run uses the same network)."""
@@ -68,13 +77,14 @@ class HouseSuite:
     def __init__(
         self,
         name: str,
-        mode: str = "cached",
+        mode: str | None = None,
         cache_dir: str | None = None,
         max_steps: int | None = None,
         observation: str = "gt",
         perception: str | None = None,
         perception_key: str | None = None,
     ):
+        mode = default_mode(name) if mode is None else mode
         if mode not in MODES:
             raise UserError(f"unknown render mode {mode!r}; use one of {', '.join(MODES)}")
         if observation not in OBSERVATIONS:
