@@ -38,3 +38,12 @@ def test_an_agent_object_is_recorded_by_its_class_not_its_own_name():
     agent.name = "oracle"  # a claim: the registry's oracle is another agent
     results = objsearch.evaluate(agent, "gridworld", seeds=[1], split="seen-goals")
     assert results["agent"] == "objsearch_agents.baselines.random_agent:RandomAgent"
+
+
+def test_a_cache_dir_that_is_not_a_path_is_named_when_the_env_is_made():
+    import gymnasium
+
+    import objsearch  # noqa: F401  (registers the ids)
+
+    with pytest.raises(ValueError, match=r"cache_dir=5 is not a folder; pass a path"):
+        gymnasium.make("ObjSearch/house-single-v1", cache_dir=5)

@@ -3,6 +3,7 @@
 
 from __future__ import annotations
 
+import os
 from typing import Any, Sequence
 
 import gymnasium
@@ -150,6 +151,8 @@ class HouseEnv(gymnasium.Env):
         self.refs = list(houses) if houses else [HouseRef(seed=0)]
         self.mode, self.settings, self.max_steps = mode, settings, check_max_steps(max_steps)
         self.room_max_steps = check_room_max_steps(room_max_steps)
+        if cache_dir is not None and not isinstance(cache_dir, (str, os.PathLike)):
+            raise ValueError(f"cache_dir={cache_dir!r} is not a folder; pass a path (str or pathlib.Path) or None")
         self.stop_action, self.cache_dir, self.goal_rule = bool(stop_action), cache_dir, goal_rule
         self.targets = tuple(targets) if targets else None
         self.render_mode = render_mode

@@ -145,3 +145,14 @@ def test_shipped_recipes_name_no_path_of_the_training_machine(folder):
         if (folder / name).exists():
             text = (folder / name).read_text()
             assert not re.search(r"(^|[\s\"'=])/(root|home|tmp|work|Users)/", text), f"{folder / name}: {text}"
+
+
+def test_a_missing_checkpoint_names_the_folder_it_was_looked_for_in(monkeypatch, tmp_path):
+    from objsearch_agents.house.agent import CHECKPOINTS_ENV
+
+    monkeypatch.setenv(CHECKPOINTS_ENV, str(tmp_path / "nowhere"))
+    with pytest.raises(UserError, match=rf"no a3c checkpoint is in \${CHECKPOINTS_ENV} \(.*nowhere, no such folder\)"):
+        make_agent("a3c", suite="house-single")
+    monkeypatch.setenv(CHECKPOINTS_ENV, str(tmp_path))  # a folder, without the run
+    with pytest.raises(UserError, match=rf"is in \${CHECKPOINTS_ENV} \({tmp_path}\) for suite house-single"):
+        make_agent("a3c", suite="house-single")

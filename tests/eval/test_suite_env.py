@@ -118,3 +118,16 @@ def test_bad_arguments_are_refused_with_the_fix():
         gymnasium.make("ObjSearch/Suite-v1", suite="gridworld", seeds=[1.5])
     with pytest.raises(UserError, match="episodes=0"):
         gymnasium.make("ObjSearch/Suite-v1", suite="gridworld", episodes=0)
+
+
+def test_the_readmes_gymnasium_snippet_runs_as_written_in_a_fresh_interpreter():
+    import re
+    import subprocess
+    import sys
+    from pathlib import Path
+
+    readme = (Path(__file__).resolve().parents[2] / "README.md").read_text(encoding="utf-8")
+    (snippet,) = [b for b in re.findall(r"```python\n(.*?)```", readme, re.S) if "ObjSearch/Suite-v1" in b]
+    assert "import objsearch" not in snippet  # as a user pastes it: no import that registers the ids by hand
+    proc = subprocess.run([sys.executable, "-c", snippet], capture_output=True, text=True, timeout=300)
+    assert proc.returncode == 0, proc.stderr[-2000:]
