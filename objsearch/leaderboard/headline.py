@@ -34,14 +34,28 @@ HEADLINE_AGENTS = (
     "hrl_grg",
     "hrl_grg_explorer",
 )
-# (title, {suite: its splits shown}, observations): the large-house tier's test split in its three
-# placements, ground truth and predictions in columns side by side; the houses' splits of unseen goals,
+# (title, {suite: its splits shown}, observations): the large-house tier's test split in its
+# placements (version 2, then version 1), ground truth and predictions in columns side by side; the houses' splits of unseen goals,
 # houses or instances, the predictions under ground truth in each cell (STACKED: 16 columns would not read);
 # the grid world's test maps. A suite's predicted column is shown once it has a predicted entry.
 STACKED = ("gt", "predicted below")
 HEADLINE_TABLES = (
     (
-        "Large houses, small targets: does knowing where things go help? ([docs](docs/large_houses.md))",
+        "Large houses, small targets: does knowing where things go help? `house-large-v2`: 50 test houses in "
+        "floorplan families, a share p of the objects moved anywhere ([docs](docs/large_houses.md))",
+        {
+            "house-large-v2": ("test",),
+            "house-large-v2-p25": ("test",),
+            "house-large-v2-p50": ("test",),
+            "house-large-v2-p75": ("test",),
+            "house-large-v2-shuffled": ("test",),
+            "house-large-v2-roomwise": ("test",),
+        },
+        ("gt", "predicted"),
+    ),
+    (
+        "The tier's first version, `house-large`: 10 test houses, one layout "
+        "([docs](docs/large_houses.md#the-answer-test))",
         {"house-large": ("test",), "house-large-roomwise": ("test",), "house-large-shuffled": ("test",)},
         ("gt", "predicted"),
     ),

@@ -47,7 +47,10 @@ def _near_goal_ids(world: World, targets, rule: GoalRule) -> dict[str, np.ndarra
     with HouseRenderer(world.model, GOAL_CAMERA) as renderer:
         for start in range(0, len(ids), BATCH):
             frames = renderer.render(poses[start : start + BATCH])
-            semantic[start : start + BATCH], depth[start : start + BATCH] = frames.semantic, quantize_depth(frames.depth)
+            semantic[start : start + BATCH], depth[start : start + BATCH] = (
+                frames.semantic,
+                quantize_depth(frames.depth),
+            )
     found = {t: ids[goal_poses(semantic, depth, CATEGORY_IDS[t], rule)] for t in targets}
     return {t: found_ids for t, found_ids in found.items() if len(found_ids)}
 
