@@ -67,9 +67,9 @@ LEADERBOARD_SWEEP_SUITES ?= house-size-4 house-size-4-shuffled house-size-7 hous
 	house-size-10 house-size-10-shuffled house-size-14 house-size-14-shuffled
 LEADERBOARD_SWEEP_AGENTS ?= frontier room_prior_frontier object_prior_frontier
 # the large-house tier, version 2 (docs/large_houses.md): its goal caches are not kept, so it renders live
-TIER2_SUITES ?= house-large-v2 house-large-v2-shuffled house-large-v2-p50 house-large-v2-p25 house-large-v2-p75 \
+LEADERBOARD_TIER2_SUITES ?= house-large-v2 house-large-v2-shuffled house-large-v2-p50 house-large-v2-p25 house-large-v2-p75 \
 	house-large-v2-roomwise
-TIER2_AGENTS ?= frontier object_prior_frontier room_prior_frontier inspect_frontier
+LEADERBOARD_TIER2_AGENTS ?= frontier object_prior_frontier room_prior_frontier inspect_frontier
 # one shell step of the loops below: evaluate $$agent on $$suite on gt and on predicted observations, store both
 EVAL_GT_AND_PREDICTED = $(BIN)/objsearch-eval --agent $$agent --suite $$suite --batch 32 --quiet --out build/$$suite-$$agent.json && \
 	  $(BIN)/objsearch leaderboard add build/$$suite-$$agent.json --replace && \
@@ -111,7 +111,7 @@ leaderboard: $(STAMP)
 # evaluation resumes from its build/ file when rerun)
 leaderboard-tier2: $(STAMP)
 	mkdir -p build
-	for agent in $(TIER2_AGENTS); do for suite in $(TIER2_SUITES); do \
+	for agent in $(LEADERBOARD_TIER2_AGENTS); do for suite in $(LEADERBOARD_TIER2_SUITES); do \
 	  $(BIN)/objsearch-eval --agent $$agent --suite $$suite --render live --batch 16 --quiet --out build/$$suite-$$agent.json && \
 	  $(BIN)/objsearch leaderboard add build/$$suite-$$agent.json --replace || exit 1; \
 	done; done

@@ -37,6 +37,7 @@ def entries_made_by_make_leaderboard() -> set[str]:
                 made |= {f"{suite}/{agent}", f"{suite}/{agent}_predicted"}
     made |= {f"gridworld/{agent}" for agent in v["LEADERBOARD_GRID_AGENTS"]}
     made |= {f"{suite}/{agent}" for suite in v["LEADERBOARD_SWEEP_SUITES"] for agent in v["LEADERBOARD_SWEEP_AGENTS"]}
+    made |= {f"{suite}/{agent}" for suite in v["LEADERBOARD_TIER2_SUITES"] for agent in v["LEADERBOARD_TIER2_AGENTS"]}
     return made
 
 
@@ -51,4 +52,6 @@ def test_the_recipe_covers_every_shipped_house_suite():
     from objsearch.sim.suites import SUITE_NAMES
 
     v = make_variables()  # the size sweep's suites: its own loop (gt, the prior agents and frontier)
-    assert set(SUITE_NAMES) <= set(v["LEADERBOARD_SUITES"]) | set(v["LEADERBOARD_SWEEP_SUITES"])
+    assert set(SUITE_NAMES) <= set(v["LEADERBOARD_SUITES"]) | set(v["LEADERBOARD_SWEEP_SUITES"]) | set(
+        v["LEADERBOARD_TIER2_SUITES"]
+    )
