@@ -53,6 +53,18 @@ SHIPPED = {
         "house-size-14-shuffled-v1",
         "3ec177e3c6d3e91a85c2a3839c20ae58301fb29e1714540489bcfb8fb930d5ab",
     ),
+    "house-large-v2": ("house-large-v2-v1", "a327de0019901210bf92ddd079e30579e6ddafcc7e247f29446e5dd5c44cb624"),
+    "house-large-v2-p25": ("house-large-v2-p25-v1", "7902b318da295deccbacabed70932eaf54db7789570a2a746c0ca972e16d8557"),
+    "house-large-v2-p50": ("house-large-v2-p50-v1", "773fe11ebfc194f90aecb0fdb10a0e5baf069e9f3111596c1c0ce673cc5cdcb2"),
+    "house-large-v2-p75": ("house-large-v2-p75-v1", "10b07fd469cd0c90daea1b8805247b3a13f58dbb06172ce0edd661f4eb00c3c2"),
+    "house-large-v2-shuffled": (
+        "house-large-v2-shuffled-v1",
+        "14c8071a158dc1e11e4ea836709205b388110f33d4fbd308c58372369a48e610",
+    ),
+    "house-large-v2-roomwise": (
+        "house-large-v2-roomwise-v1",
+        "ab6b121ab3dc139d7760057fdcd17681bb061f7bb4e72601103b837908449ff1",
+    ),
 }
 
 
