@@ -41,11 +41,8 @@ regenerates the houses and refuses to run if a hash differs.
   targets with objects placed functionally, within room types, or anywhere
   (``objsearch.sim.large_suite``); splits ``val`` and ``test``.
 
-* ``house-large-v2`` and its placements ``-p25``, ``-p50``, ``-p75``, ``-shuffled`` (a share
-  of the objects moved anywhere) and ``-roomwise`` (all moved within room types), the tier's
-  second version: 100 training, 10 validation and 50 test ``house-gen-4`` houses (floorplan
-  families), the same targets and goal rule, starts at least 12 m and 3 rooms from the
-  target; rendered live by default (``objsearch.sim.large_suite.LARGE_V2``).
+* ``house-large-v2`` and ``-p25``, ``-p50``, ``-p75``, ``-shuffled``, ``-roomwise``: the tier's
+  second version, on ``house-gen-4`` houses (``large_suite.LARGE_V2``, docs/large_houses.md).
 
 * ``house-size-N`` and ``house-size-N-shuffled``, N = 4, 7, 10, 14 (the tier's size sweep):
   8 ``house-gen-3`` test houses of N rooms each, six small targets, 150 test episodes starting
@@ -124,6 +121,15 @@ class ShippedSuite:
     shuffled_of: str | None = None
 
 
+# The large-house tier's second version (large_suite.LARGE_V2): its six placements, drawn together.
+LARGE_V2 = {
+    "house-large-v2": "c7408256217f960203a09a2581f11d822ee590248af2c9c7e2b53e556e5d66dc",
+    "house-large-v2-p25": "b61cd3cfa2366527be1490bf76ef61fa5922bf313a4ab3139ebc7df508da322e",
+    "house-large-v2-p50": "7a323f2ccf21506a6e520606533c4143fb76a366774680be2939a4bd64b75c1a",
+    "house-large-v2-p75": "cdecbee64d1d792858a99f26b5f4b8d89072e5342e14ee90e4fa248c52820dd9",
+    "house-large-v2-shuffled": "f76f9b59d2e6aafe8046198a5de95189bea83f9931658297a8bd0f5615199641",
+    "house-large-v2-roomwise": "417c919b71553eccc6f1e19d6a1d020b30c75584b31e1266b4d1e28b064831b5",
+}
 # The shipped house suites, in this order for good: a suite's index seeds its builder.
 SHIPPED = (
     ShippedSuite(
@@ -233,42 +239,7 @@ SHIPPED = (
         recipe="house-large",
         generator="house-gen-3",
     ),
-    ShippedSuite(
-        "house-large-v2",
-        "c7408256217f960203a09a2581f11d822ee590248af2c9c7e2b53e556e5d66dc",
-        recipe="house-large",
-        generator="house-gen-4",
-    ),
-    ShippedSuite(
-        "house-large-v2-p25",
-        "b61cd3cfa2366527be1490bf76ef61fa5922bf313a4ab3139ebc7df508da322e",
-        recipe="house-large",
-        generator="house-gen-4",
-    ),
-    ShippedSuite(
-        "house-large-v2-p50",
-        "7a323f2ccf21506a6e520606533c4143fb76a366774680be2939a4bd64b75c1a",
-        recipe="house-large",
-        generator="house-gen-4",
-    ),
-    ShippedSuite(
-        "house-large-v2-p75",
-        "cdecbee64d1d792858a99f26b5f4b8d89072e5342e14ee90e4fa248c52820dd9",
-        recipe="house-large",
-        generator="house-gen-4",
-    ),
-    ShippedSuite(
-        "house-large-v2-shuffled",
-        "f76f9b59d2e6aafe8046198a5de95189bea83f9931658297a8bd0f5615199641",
-        recipe="house-large",
-        generator="house-gen-4",
-    ),
-    ShippedSuite(
-        "house-large-v2-roomwise",
-        "417c919b71553eccc6f1e19d6a1d020b30c75584b31e1266b4d1e28b064831b5",
-        recipe="house-large",
-        generator="house-gen-4",
-    ),
+    *(ShippedSuite(name, digest, recipe="house-large", generator="house-gen-4") for name, digest in LARGE_V2.items()),
 )
 SHIPPED_SUITES = {suite.name: suite for suite in SHIPPED}
 # Views of SHIPPED that the rest of objsearch reads.
