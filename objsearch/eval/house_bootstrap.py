@@ -1,8 +1,8 @@
 """Intervals over houses: a cluster bootstrap of per-episode records.
 
 A generated benchmark samples houses, then episodes in them, so an interval that says how
-much a figure would move on other houses must resample houses (``shared/DESIGN.md``, "The
-unit of sampling is the house"): each bootstrap sample draws the houses with replacement,
+much a figure would move on other houses must resample houses (the unit of sampling is the
+house): each bootstrap sample draws the houses with replacement,
 and every episode and seed of a drawn house moves with it. The episode intervals of
 ``objsearch.eval.metrics`` resample tasks instead; they say how much a figure would move on
 other episodes of the same houses, and are narrower wherever episodes of one house succeed

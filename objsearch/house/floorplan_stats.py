@@ -34,7 +34,7 @@ def outline_corners(spec: HouseSpec) -> int:
     for i in range(len(xs) - 1):
         for j in range(len(ys) - 1):
             cx, cy = (xs[i] + xs[i + 1]) / 2, (ys[j] + ys[j + 1]) / 2
-            if any(_inside(r.polygon, cx, cy) for r in spec.rooms):
+            if any(r.contains(cx, cy) for r in spec.rooms):
                 covered.add((i, j))
     corners = 0
     for i in range(len(xs)):
@@ -43,14 +43,6 @@ def outline_corners(spec: HouseSpec) -> int:
             n = sum(around)
             corners += n in (1, 3) or (n == 2 and around[0] == around[2])
     return corners
-
-
-def _inside(poly, x: float, y: float) -> bool:
-    inside = False
-    for (x0, y0), (x1, y1) in zip(poly, poly[1:] + poly[:1]):
-        if (y0 > y) != (y1 > y) and x < x0 + (y - y0) * (x1 - x0) / (y1 - y0):
-            inside = not inside
-    return inside
 
 
 def describe(spec: HouseSpec) -> dict:

@@ -11,8 +11,6 @@ houses); ``render_fidelity`` is its table for ``paper_tables.md`` and ``fidelity
 
 from __future__ import annotations
 
-import html
-
 from objsearch.eval.house_bootstrap import house_ci
 from objsearch.eval.metrics import success_rate
 from objsearch.leaderboard.relations import (
@@ -26,7 +24,7 @@ from objsearch.leaderboard.relations import (
     _split,
     paired_gain,
 )
-from objsearch.leaderboard.sweep import COLOURS, GAP, HEIGHT, MARGIN, WIDTH, _tick_label, _ticks
+from objsearch.leaderboard.sweep import COLOURS, GAP, HEIGHT, MARGIN, WIDTH, _tick_label, _ticks, legend
 
 #: (p, suite): the share of objects moved anywhere and the suite that has it
 #: (``objsearch.sim.large_suite.LARGE_V2``'s placements; a copy, kept the same by a test).
@@ -166,18 +164,7 @@ def fidelity_svg(rows: list[dict]) -> str:
                     f'<line x1="{cx:.1f}" x2="{cx:.1f}" y1="{y(ci_low):.1f}" y2="{y(ci_high):.1f}" stroke="{colour}"/>'
                 )
                 out.append(f'<circle cx="{cx:.1f}" cy="{y(r[key]):.1f}" r="3.5" fill="{colour}"/>')
-    top = HEIGHT + 2 * MARGIN
-    for m, name in enumerate(names):
-        colour = COLOURS[m % len(COLOURS)]
-        out.append(
-            f'<line x1="{MARGIN}" x2="{MARGIN + 24}" y1="{top + 18 * m:.0f}" y2="{top + 18 * m:.0f}" '
-            f'stroke="{colour}" stroke-width="3"/>'
-        )
-        out.append(f'<text x="{MARGIN + 32}" y="{top + 18 * m + 4:.0f}">{html.escape(name)}</text>')
-    out.append(
-        f'<text x="{MARGIN}" y="{top + 18 * len(names) + 4:.0f}">house-large-v2, objects moved anywhere onto '
-        "surfaces; gt observations, test episodes.</text>"
-    )
+    out += legend(names, "house-large-v2, objects moved anywhere onto surfaces; gt observations, test episodes.")
     out.append("</svg>")
     return "\n".join(out) + "\n"
 

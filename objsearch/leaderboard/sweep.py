@@ -215,7 +215,18 @@ def sweep_svg(rows: list[dict]) -> str:
                         f'<circle cx="{cx:.1f}" cy="{y(r[key + "_gain"]):.1f}" r="3.5" fill="{fill}" '
                         f'stroke="{colour}"/>'
                     )
+    out += legend(
+        names, "solid, filled: functional; dashed, open: shuffled (objects anywhere). gt observations, test episodes."
+    )
+    out.append("</svg>")
+    return "\n".join(out) + "\n"
+
+
+def legend(names: list[str], note: str) -> list[str]:
+    """The SVG elements of a plot's legend below its panels: a coloured line and the name of
+    each method (in ``COLOURS``' order), then ``note``."""
     top = HEIGHT + 2 * MARGIN
+    out = []
     for m, name in enumerate(names):
         colour = COLOURS[m % len(COLOURS)]
         out.append(
@@ -223,13 +234,8 @@ def sweep_svg(rows: list[dict]) -> str:
             f'stroke="{colour}" stroke-width="3"/>'
         )
         out.append(f'<text x="{MARGIN + 32}" y="{top + 18 * m + 4:.0f}">{html.escape(name)}</text>')
-    m = len(names)
-    out.append(
-        f'<text x="{MARGIN}" y="{top + 18 * m + 4:.0f}">solid, filled: functional; dashed, open: shuffled '
-        f"(objects anywhere). gt observations, test episodes.</text>"
-    )
-    out.append("</svg>")
-    return "\n".join(out) + "\n"
+    out.append(f'<text x="{MARGIN}" y="{top + 18 * len(names) + 4:.0f}">{note}</text>')
+    return out
 
 
 def _ticks(low: float, high: float) -> list[float]:
