@@ -107,7 +107,7 @@ leaderboard: $(STAMP)
 	$(BIN)/objsearch leaderboard verify --all
 	@echo "make leaderboard: $$(( $$(date +%s) - $$(cat build/.leaderboard-start) )) s"
 
-# the tier's version 2 alone, an entry at a time (10-12 minutes each on one core; an interrupted
+# the tier's version 2 alone, an entry at a time (10-20 minutes each, live; an interrupted
 # evaluation resumes from its build/ file when rerun)
 leaderboard-tier2: $(STAMP)
 	mkdir -p build

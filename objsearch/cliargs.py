@@ -26,6 +26,17 @@ def positive_int(text: str) -> int:
     return _int_at_least(text, 1, "a positive integer")
 
 
+def positive_float(text: str) -> float:
+    """argparse type: a finite number above 0 (metres, pixels' depth)."""
+    try:
+        value = float(text)
+    except ValueError:
+        value = math.nan
+    if not 0 < value < math.inf:  # also nan and what overflows to inf (1e400)
+        raise argparse.ArgumentTypeError(f"expected a finite number above 0, got {text!r}")
+    return value
+
+
 MAX_SEED = 2**32 - 1  # what every generator takes (torch's manual_seed fails past 2**64)
 
 

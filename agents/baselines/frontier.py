@@ -358,6 +358,9 @@ class FrontierAgent(OneSlotBatch):
     """Frontier exploration with approach on sight (``objsearch-eval --agent frontier``)."""
 
     config = FrontierConfig()
+    # nothing learned (its subclasses that count a prior on training houses neither): the board
+    # shows no training runs (objsearch.eval.registry.is_training_free)
+    training_free = True
 
     @classmethod
     def worlds(cls) -> tuple[str, ...]:

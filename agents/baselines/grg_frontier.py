@@ -138,6 +138,7 @@ class GRGFrontierAgent(FrontierAgent):
     """
 
     config = GRGFrontierConfig()
+    training_free = False  # its GRG is learned (HRL-GRG's training runs)
 
     def __init__(self, grg: GoalsRelationalGraph | None = None):
         self.grg = grg

@@ -13,6 +13,7 @@ class OracleAgent(OneSlotBatch):
     # it reads the shortest path, not only its observations: marked and never ranked
     # (objsearch.eval.registry.is_privileged)
     privileged = True
+    training_free = True
 
     # the batched form: one plan per slot
     def start_batch(self, num_slots: int) -> None:

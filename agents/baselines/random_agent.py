@@ -6,6 +6,8 @@ from objsearch.eval.agent import AgentTask
 class RandomAgent:
     """Uniformly random actions from the env's discrete action space (the paper's Random)."""
 
+    training_free = True  # nothing learned: the board shows no training runs (registry.is_training_free)
+
     def reset(self, task: AgentTask) -> None:
         self._rng = task.rng
         self._num_actions = int(task.action_space.n)

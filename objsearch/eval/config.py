@@ -50,6 +50,9 @@ class EvalConfig:
         episodes: play only the first this many episodes of each split (``--episodes``, a
             quick look: the results are marked partial and the leaderboard refuses them);
             None: every episode.
+        checkpoints: the folder ``$OBJSEARCH_CHECKPOINTS`` named (absolute) when the agent chose
+            its own checkpoint under it (set by ``plan.resolve``), so that a replay loads the
+            same weights; None: the shipped ones.
     """
 
     agent: str
@@ -62,13 +65,14 @@ class EvalConfig:
     weights_sha256: str | None = None
     training_run: int | None = None
     episodes: int | None = None
+    checkpoints: str | None = None
 
     def to_json(self) -> dict:
-        """The fields as a JSON-ready dict (tuples as lists; ``training_run`` and ``episodes``
-        only when set)."""
+        """The fields as a JSON-ready dict (tuples as lists; ``training_run``, ``episodes`` and
+        ``checkpoints`` only when set)."""
         out = asdict(self)
         out["splits"], out["seeds"] = list(self.splits), list(self.seeds)
-        for key in ("training_run", "episodes"):
+        for key in ("training_run", "episodes", "checkpoints"):
             if out[key] is None:
                 del out[key]
         return out

@@ -61,21 +61,43 @@ def bootstrap_stats(records: Sequence[dict], measure, seed: int = BOOTSTRAP_SEED
     draws a run per task instead, which averages that away (``docs/evaluation.md``).
     A fixed resampling ``seed``, so the values are reproducible.
     """
-    by_task: dict = defaultdict(lambda: defaultdict(list))
-    for r in records:
-        by_task[r["episode_id"]][r.get("training_run")].append(r)
-    runs = sorted({r.get("training_run") for r in records}, key=str)
-    tasks = list(by_task.values())
-    # scores[run, task]; a task's weight is its number of records in one run (its seeds)
-    scores = np.array([[measure(t[run]) if t[run] else np.nan for t in tasks] for run in runs])
-    weights = np.array([len(t[runs[0]]) for t in tasks], dtype=float)
+    scores, weights = _task_scores(records, measure)
+    runs, tasks = scores.shape
     rng = np.random.default_rng(seed)
-    picks = rng.integers(len(tasks), size=(BOOTSTRAP_SAMPLES, len(tasks)))
-    if len(runs) == 1:
+    picks = rng.integers(tasks, size=(BOOTSTRAP_SAMPLES, tasks))
+    if runs == 1:
         return (scores[0][picks] * weights[picks]).sum(axis=1) / weights[picks].sum(axis=1)
-    drawn = rng.integers(len(runs), size=(BOOTSTRAP_SAMPLES, len(runs)))
+    drawn = rng.integers(runs, size=(BOOTSTRAP_SAMPLES, runs))
     w = weights[picks][:, None, :]
-    return (scores[drawn[:, :, None], picks[:, None, :]] * w).sum(axis=(1, 2)) / (w.sum(axis=2)[:, 0] * len(runs))
+    return (scores[drawn[:, :, None], picks[:, None, :]] * w).sum(axis=(1, 2)) / (w.sum(axis=2)[:, 0] * runs)
+
+
+def _task_scores(records: Sequence[dict], measure) -> tuple[np.ndarray, np.ndarray]:
+    """(``measure`` of each task's records in each training run, float (runs, tasks), NaN where
+    a run has none; each task's weight, its records in the first run): tasks (episode ids) in
+    the order they first appear, runs in name order. SR and SPL are the mean of one value per
+    record, in one pass (the leaderboard's pages take hundreds of intervals); any other measure
+    is called task by task."""
+    names = sorted({r.get("training_run") for r in records}, key=str)
+    run_of, task_of = {run: i for i, run in enumerate(names)}, {}
+    tasks = np.array([task_of.setdefault(r["episode_id"], len(task_of)) for r in records], dtype=np.int64)
+    cells = np.array([run_of[r.get("training_run")] for r in records], dtype=np.int64) * len(task_of) + tasks
+    shape = (len(names), len(task_of))
+    sizes = np.bincount(cells, minlength=shape[0] * shape[1])
+    per_record = {
+        success_rate: lambda r: float(r["success"]),
+        spl: lambda r: episode_spl(r["success"], r["min_steps"], r["steps"]),
+    }
+    if measure in per_record:
+        sums = np.bincount(cells, weights=[per_record[measure](r) for r in records], minlength=sizes.size)
+        with np.errstate(invalid="ignore"):
+            scores = sums / sizes  # 0/0: NaN
+    else:
+        groups: list[list[dict]] = [[] for _ in range(sizes.size)]
+        for cell, r in zip(cells.tolist(), records):
+            groups[cell].append(r)
+        scores = np.array([measure(g) if g else np.nan for g in groups])
+    return scores.reshape(shape), sizes[: shape[1]].astype(float)
 
 
 def _interval(stats: np.ndarray) -> list[float]:

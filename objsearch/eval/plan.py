@@ -16,10 +16,11 @@ from __future__ import annotations
 
 import os
 from dataclasses import dataclass, field, replace
+from pathlib import Path
 from typing import Any
 
 from objsearch.errors import UserError
-from objsearch.eval.agent import TrainingRun, build_agent
+from objsearch.eval.agent import CHECKPOINTS_ENV, TrainingRun, build_agent
 from objsearch.eval.config import EvalConfig, Unit
 from objsearch.eval.registry import check_supports, resolve_agent
 from objsearch.eval.runs import check_run_choice, listed_runs, run_config
@@ -187,6 +188,16 @@ def _agent_class(config: EvalConfig, folder: str, runs: bool = True) -> tuple[ty
     return cls, (listed_runs(config, cls) if runs and config.checkpoint is None else [])
 
 
+def _checkpoints_used(plays: list[Play]) -> str | None:
+    """The folder ``$OBJSEARCH_CHECKPOINTS`` names (absolute), if a play's agent loaded its
+    weights from under it; else None (a training-free agent, or the shipped weights)."""
+    if not os.environ.get(CHECKPOINTS_ENV):
+        return None
+    root = Path(os.environ[CHECKPOINTS_ENV]).resolve()
+    loaded = [Path(p.loaded).resolve() for p in plays if p.loaded]
+    return str(root) if any(path.is_relative_to(root) for path in loaded) else None
+
+
 def resolve(
     config: EvalConfig,
     folder: str | None = None,
@@ -242,6 +253,10 @@ def resolve(
         del built
         video = video_dir if i == 0 else None  # one run's pictures: the first's
         plays.append(Play(replace(play, weights_sha256=weights), factory, run, loaded, partial, video))
+    found = _checkpoints_used(plays) if agent is None and config.checkpoint is None else None
+    if found:  # the agent chose weights under $OBJSEARCH_CHECKPOINTS: recorded, so a replay loads the same
+        config = replace(config, checkpoints=found)
+        plays = [replace(p, config=replace(p.config, checkpoints=found)) for p in plays]
     units = plan_units(suite, splits, config.seeds, config.episodes)
     videos = frozenset(video_units_of(suite, splits, config.seeds, video_episodes)) if video_dir else None
     return EvalPlan(config, tuple(plays), tuple(units), videos, tuple(REGISTERED.items()), suite, agent)

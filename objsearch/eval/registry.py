@@ -126,17 +126,32 @@ def resolve_agent(spec: str, folder: str | None = None) -> type:
     return cls
 
 
-@functools.cache
 def is_privileged(spec: str) -> bool:
     """Whether ``spec`` (as a results file records its agent) is a registered agent, by its
     name or its registered ``module:Class``, whose class declares ``privileged = True``: it
     reads ground truth beyond its observations (the oracle's shortest path, the rooms that
-    hold the target), so its results are shown marked and never ranked.
+    hold the target), so its results are shown marked and never ranked (``declares``)."""
+    return declares(spec, "privileged")
 
-    The one place that decides it. Only registered agents are imported (installed code, as
-    ``objsearch-eval --agent NAME`` runs it); a file agent or an unregistered module is never
-    imported here, so rendering a leaderboard runs no code that a submission names, and such
-    an agent counts as not privileged (``docs/failure_modes.md``: what verify does not prove)."""
+
+def is_training_free(spec: str) -> bool:
+    """Whether ``spec`` is a registered agent whose class declares ``training_free = True``: it
+    learns nothing by training (no training runs, no seeds of training to vary; a prior counted
+    from a suite's training houses is not training), so the board shows no training runs for
+    it (``declares``)."""
+    return declares(spec, "training_free")
+
+
+@functools.cache
+def declares(spec: str, flag: str) -> bool:
+    """Whether ``spec`` (as a results file records its agent: a registered name or its
+    registered ``module:Class``) is a registered agent whose class sets ``flag`` to True.
+
+    The one place that decides what an agent declares. Only registered agents are imported
+    (installed code, as ``objsearch-eval --agent NAME`` runs it); a file agent or an
+    unregistered module is never imported here, so rendering a leaderboard runs no code that a
+    submission names, and such an agent declares nothing (``docs/failure_modes.md``: what
+    verify does not prove)."""
     agents = registered_agents()
     target = agents.get(spec) or (spec if spec in agents.values() else None)
     if target is None:
@@ -145,7 +160,7 @@ def is_privileged(spec: str) -> bool:
         cls = _import_target(target, f"agent {spec!r}")
     except (ImportError, UserError):  # a broken installed package: it cannot be replayed either
         return False
-    return getattr(cls, "privileged", False) is True
+    return getattr(cls, flag, False) is True
 
 
 def agent_label(spec: str) -> str:

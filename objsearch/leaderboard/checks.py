@@ -37,9 +37,10 @@ def _differs(a, b) -> bool:
     return a != b
 
 
-@functools.lru_cache(maxsize=8)
+@functools.lru_cache(maxsize=64)
 def _suite(name: str, suite_config: str):
-    """The suite and its episodes by split and id (built once per process: stored entries share suites)."""
+    """The suite and its episodes by split and id (built once per process: stored entries share
+    suites; a house suite's houses are not loaded: ``HousePath``)."""
     suite = make_suite(name, **json.loads(suite_config))
     return suite, {split: {ep.episode_id: ep for ep in suite.episodes(split)} for split in suite.splits}
 

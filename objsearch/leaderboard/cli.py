@@ -192,6 +192,7 @@ def run_add(args: argparse.Namespace) -> int:
     unwritable folder, two files for one entry, or an existing entry without ``--replace``.
     """
     from objsearch.fileio import check_writable
+    from objsearch.leaderboard.checked import Memo
     from objsearch.leaderboard.render import SUBMISSIONS, render
     from objsearch.leaderboard.validate import content_sha256
     from objsearch.progress import STAGE_DELAY_S, progress_bar, stage
@@ -201,12 +202,13 @@ def run_add(args: argparse.Namespace) -> int:
         check_entry_name(args.name, "--name")
         if len(args.files) > 1:
             raise UserError(f"--name names one entry, but {len(args.files)} files were given; add them one by one")
-    if args.create and not Path(root, SUBMISSIONS).is_dir():
+    create = args.create and not Path(root, SUBMISSIONS).is_dir()  # made once the files pass, not before
+    if create:
         check_writable(root, "leaderboard folder --dir", folder=True)
-        Path(root, SUBMISSIONS).mkdir(parents=True, exist_ok=True)
-    _stored(root)
-    for folder in (root, Path(root, SUBMISSIONS)):  # the pages, the entries: before the slow validation
-        check_writable(folder, "leaderboard folder", folder=True)
+    else:
+        _stored(root)
+        for folder in (root, Path(root, SUBMISSIONS)):  # the pages, the entries: before the slow validation
+            check_writable(folder, "leaderboard folder", folder=True)
     adding: dict[Path, tuple[str, dict]] = {}  # entry path -> (file, results)
     for file in args.files:
         with stage(f"checking {file}"):
@@ -223,14 +225,19 @@ def run_add(args: argparse.Namespace) -> int:
     digests = {content_sha256(results): file for file, results in adding.values()}
     if len(digests) < len(adding):
         raise UserError(f"two of {', '.join(args.files)} hold the same results: one result is one entry")
+    if create:
+        Path(root, SUBMISSIONS).mkdir(parents=True, exist_ok=True)
     with _writing(root):
         for target in adding:
             if target.exists() and not args.replace:
                 raise UserError(f"{target} exists; pass --replace to replace it or --name to add another entry")
         others = [path for path in _stored(root) if path not in adding]
+        memo, stored = Memo(root), set()  # the entries checked before, unchanged since: not again (leaderboard.checked)
         with progress_bar(len(others), "checking the stored entries", "entry", delay=STAGE_DELAY_S) as bar:
             for path in others:  # the pages are rendered from every stored entry: refuse before writing
-                file = digests.get(content_sha256(_validated(path, stored=True)))
+                digest = memo.content_sha256(path, lambda p: _validated(p, stored=True))
+                stored.add(digest)
+                file = digests.get(digest)
                 if file is not None:
                     raise UserError(
                         f"{file} holds the same results as the stored entry {path}: one result is one entry; "
@@ -238,7 +245,10 @@ def run_add(args: argparse.Namespace) -> int:
                     )
                 bar.update()
         with stage("rendering the pages"):
-            written = render(root, store={target: results for target, (_, results) in adding.items()})
+            written = render(root, store={target: results for target, (_, results) in adding.items()}, memo=memo)
+        for target in adding:
+            memo.remember(target, content_sha256(adding[target][1]))
+        memo.save(keep=stored | set(digests))
     for path in written:
         if path not in adding:
             print(f"wrote {path}", file=sys.stderr)
@@ -332,6 +342,7 @@ def _record_verified(root: str | Path, passed: dict[Path, tuple[dict, int, int]]
     the pages again, all in one write under the lock. An entry changed since it was read, or a
     path outside ``root``'s submissions, is left as it is; an unwritable folder only warns."""
     from objsearch.fileio import check_writable
+    from objsearch.leaderboard.checked import Memo
     from objsearch.leaderboard.render import SUBMISSIONS, render
     from objsearch.leaderboard.validate import content_sha256, load_submission, replayed_of
 
@@ -363,7 +374,11 @@ def _record_verified(root: str | Path, passed: dict[Path, tuple[dict, int, int]]
                 "verified": {"replayed": replayed, "episodes": total, "sha256": digest},
             }
         if updates:
-            written = render(root, store=updates)
+            memo = Memo(root)  # the other entries were checked by add: render reads them faster
+            written = render(root, store=updates, memo=memo)
+            for path in updates:
+                memo.remember(path, content_sha256(updates[path]))
+            memo.save()
             for path in updates:
                 print(f"recorded {updates[path]['verified']['replayed']} replayed episodes in {path}", file=sys.stderr)
             for path in written:

@@ -76,7 +76,7 @@ def render_fidelity(rows: list[dict]) -> list[str]:
         "",
         "`house-large-v2` with a share p of its objects moved anywhere in the house, onto a receptacle's surface",
         "(`anywhere-P`: `-p25`, `-p50`, `-p75`, and `-shuffled` at p = 1; the moved sets nested as p grows): the same",
-        "test houses (34 play), starts and targets at every p. Each cell: SR on test with its 95% interval over houses;",
+        "test houses (50), starts and targets at every p. Each cell: SR on test with its 95% interval over houses;",
         f"below it, the SR gain over `{REFERENCE}` on the same episodes with its paired 95% interval over houses. A",
         f"prior that uses where things are loses its gain as p grows; `{REFERENCE}` should not get easier. gt",
         f"observations, seed 1. The plot: [`{SVG_FILE}`]({SVG_FILE}).",

@@ -5,7 +5,7 @@ and ``headline`` (the project README's table) use them."""
 
 from __future__ import annotations
 
-from objsearch.leaderboard.paper import TRAINING_FREE
+from objsearch.eval.registry import is_training_free
 
 
 def observation_label(results: dict) -> str:
@@ -16,14 +16,13 @@ def observation_label(results: dict) -> str:
 
 def training(results: dict) -> tuple[int | None, int | None]:
     """(training runs, mean training environment steps of a run) of a submission: (None, None)
-    for a shipped training-free agent (``TRAINING_FREE``), (1, None) for any other that
-    reports no runs."""
+    for a registered agent that declares itself training-free (``registry.is_training_free``),
+    (1, None) for any other that reports no runs."""
     runs = results.get("training_runs")
     if runs:
         steps = [run["env_steps"] for run in runs]
         return len(runs), None if None in steps else round(sum(steps) / len(steps))
-    learned = results["config"].get("weights_sha256") or results["agent"] not in TRAINING_FREE
-    return (1, None) if learned else (None, None)
+    return (None, None) if is_training_free(results["agent"]) else (1, None)
 
 
 def runs_label(runs: int | None) -> str:

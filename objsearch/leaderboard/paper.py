@@ -36,9 +36,6 @@ PAPER_NAMES = {
     "frontier": "Frontier (not in the paper)",
     "scene_priors": "Scene Priors",
 }
-TRAINING_FREE = ("random", "oracle", "frontier", "inspect_frontier")
-"""The shipped agents that load no weights: any other entry that reports no training runs
-(results from before they were recorded) counts as one run."""
 GRIDWORLD_TABLES = {
     "Table 1: methods": ("random", "oracle", "dqn", "hdqn", "hrl_grg"),
     "Table 2: ablations of HRL-GRG": (

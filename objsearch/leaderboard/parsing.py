@@ -19,20 +19,23 @@ MAX_DIGITS = 20  # digits of a number: any 64-bit integer; Python's own limit, 4
 _JSON_STRING = re.compile(rb'"[^"\\]*(?:\\.[^"\\]*)*"')
 _LONG_NUMBER = re.compile(rb"[0-9]{%d,}" % (MAX_DIGITS + 1))
 _NOT_BRACKETS = bytes(b for b in range(256) if b not in b"[]{}")
+# an exponent of 3 digits or more: the only way a number within MAX_DIGITS can overflow a float
+_BIG_EXPONENT = re.compile(rb"[eE][+-]?[0-9]{3,}")
 
 
-def _past_limits(raw: bytes) -> str | None:
-    """What of the JSON text ``raw`` is past ``MAX_DIGITS`` or ``MAX_DEPTH``, if anything:
-    looked for outside its strings, before parsing (which would recurse that deep)."""
+def _past_limits(raw: bytes) -> tuple[str | None, bool]:
+    """(what of the JSON text ``raw`` is past ``MAX_DIGITS`` or ``MAX_DEPTH``, if anything;
+    whether a number has an exponent large enough to overflow a float): looked for outside its
+    strings, before parsing (which would recurse that deep)."""
     skeleton = _JSON_STRING.sub(b'""', raw)
     long = _LONG_NUMBER.search(skeleton)
     if long:
-        return f"a number of {len(long.group())} digits (at most {MAX_DIGITS})"
+        return f"a number of {len(long.group())} digits (at most {MAX_DIGITS})", False
     brackets = np.frombuffer(skeleton.translate(None, _NOT_BRACKETS), dtype=np.uint8)
     steps = np.where((brackets == ord("[")) | (brackets == ord("{")), 1, -1)
     if steps.size and steps.cumsum().max() > MAX_DEPTH:
-        return f"nests deeper than {MAX_DEPTH} levels"
-    return None
+        return f"nests deeper than {MAX_DEPTH} levels", False
+    return None, _BIG_EXPONENT.search(skeleton) is not None
 
 
 def _finite(text: str) -> float:
@@ -60,10 +63,11 @@ def load_submission(path: str | Path) -> dict:
         raise UserError(
             f"submission {path} is larger than the limit of {MAX_BYTES // 2**20} MiB: not a results JSON of objsearch-eval"
         )
-    problem = _past_limits(raw)
+    problem, big = _past_limits(raw)
     if problem is None:
+        floats = _finite if big else float  # every float is finite unless an exponent is that large
         try:
-            data = json.loads(raw.decode("utf-8"), parse_float=_finite, parse_constant=_no_constant)
+            data = json.loads(raw.decode("utf-8"), parse_float=floats, parse_constant=_no_constant)
         except RecursionError:  # only past the checks above when the file is no JSON at all
             problem = f"nests deeper than {MAX_DEPTH} levels"
         except ValueError as err:  # also JSONDecodeError, UnicodeDecodeError and the number checks

@@ -98,7 +98,7 @@ COMPARISONS = (
         ("test",),
         paired=True,
         text=(
-            "The tier's second version (`house-gen-4` test houses in floorplan families, 34 of them playing): every object moved",
+            "The tier's second version (`house-gen-4` test houses in floorplan families, 50 of them): every object moved",
             "within room types, onto a receptacle's surface (`roomwise-100`). Paired intervals as above.",
         ),
     ),
@@ -287,7 +287,7 @@ def render_gains(rows: list[dict]) -> list[str]:
     text = (
         f"Each agent minus `{REFERENCE}` on the same test episodes and seeds, with the paired 95% bootstrap intervals",
         "over the episodes and over the houses (a house and all its episodes drawn together; `house-large` has 10",
-        "test houses and `house-large-v2` 34 that play, so this is the interval a claim must hold on). A prior that helps",
+        "test houses and `house-large-v2` 50, so this is the interval a claim must hold on). A prior that helps",
         "shows above zero on a base suite; one that uses relations loses that gain on the moved placements. gt",
         "observations.",
     )

@@ -39,8 +39,11 @@ from objsearch.leaderboard.sweep import SVG_FILE, sweep_rows, sweep_svg
 SUBMISSIONS = "submissions"
 
 
-def _stored(root: str | Path) -> dict[Path, dict]:
-    return {path: load_submission(path) for path in sorted(Path(root, SUBMISSIONS).glob("*/*.json"))}
+def _stored(root: str | Path, memo=None) -> dict[Path, dict]:
+    """The stored entries by path (``memo``, a ``checked.Memo``: those it knows are read without
+    the parsing limits they passed before)."""
+    load = load_submission if memo is None else memo.load
+    return {path: load(path) for path in sorted(Path(root, SUBMISSIONS).glob("*/*.json"))}
 
 
 def stored_submissions(root: str | Path) -> list[tuple[str, dict]]:
@@ -227,17 +230,20 @@ def _write_together(texts: dict[Path, str]) -> None:
         ) from None
 
 
-def render(root: str | Path, add: tuple[Path, dict] | None = None, store: dict[Path, dict] | None = None) -> list[Path]:
+def render(
+    root: str | Path, add: tuple[Path, dict] | None = None, store: dict[Path, dict] | None = None, memo=None
+) -> list[Path]:
     """Regenerate ``README.md``, ``index.html``, ``paper_tables.md`` (and ``size_sweep.svg``,
     ``fidelity.svg``)
     under ``root`` from its stored submissions, and the results table of the project's README (``headline``); with
     ``add`` (path, results), store that submission as well, and with ``store`` ({path:
     results}) those, in the same write. Nothing is replaced unless every file is written.
-    Returns the paths written.
+    Returns the paths written. ``memo``: the board's ``checked.Memo``, to read the entries it
+    knows faster.
 
     Two writers at once would lose pages: callers hold the leaderboard's lock (the CLI does)."""
     root = Path(root)
-    entries, texts = _stored(root), {}
+    entries, texts = _stored(root, memo), {}
     for path, results in ([add] if add is not None else []) + list((store or {}).items()):
         entries = {p: r for p, r in entries.items() if p.resolve() != Path(path).resolve()}
         entries[path] = results

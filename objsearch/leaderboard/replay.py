@@ -9,14 +9,17 @@ entry's ``verified`` record to the content that was replayed."""
 
 from __future__ import annotations
 
+import contextlib
 import hashlib
 import json
 import math
+import os
 from dataclasses import replace
 from pathlib import Path
 
 import numpy as np
 
+from objsearch.eval.agent import CHECKPOINTS_ENV
 from objsearch.eval.config import EvalConfig
 from objsearch.eval.registry import is_file_spec
 from objsearch.eval.runner import run_units
@@ -131,6 +134,33 @@ def verify_submission(
             "(registered agents need no --trust)"
         ]
     c = results["config"]
+    if c.get("checkpoints") is not None and not Path(c["checkpoints"]).is_dir():
+        return [
+            f"its agent found its weights in ${CHECKPOINTS_ENV} = {c['checkpoints']}, which is no folder here: "
+            "replay loads the weights the evaluation recorded; put that folder back, or evaluate again and add "
+            "the new results with --replace"
+        ]
+    with _checkpoints_from(c.get("checkpoints")):
+        return _replayed_problems(results, k, rng)
+
+
+@contextlib.contextmanager
+def _checkpoints_from(folder: str | None):
+    """``$OBJSEARCH_CHECKPOINTS`` set to ``folder`` meanwhile (unset for None: the shipped weights)."""
+    before = os.environ.pop(CHECKPOINTS_ENV, None)
+    if folder is not None:
+        os.environ[CHECKPOINTS_ENV] = folder
+    try:
+        yield
+    finally:
+        os.environ.pop(CHECKPOINTS_ENV, None)
+        if before is not None:
+            os.environ[CHECKPOINTS_ENV] = before
+
+
+def _replayed_problems(results: dict, k: int | None, rng) -> list[str]:
+    """``verify_submission``'s replay of a checked submission that may run."""
+    c = results["config"]
     config = EvalConfig(
         agent=results["agent"],
         suite=results["suite"],
@@ -143,7 +173,7 @@ def verify_submission(
     )
     runs = results.get("training_runs", [])
     claims = {None: c.get("weights_sha256")} if len(runs) <= 1 else {run["seed"]: run["weights_sha256"] for run in runs}
-    stored = {_unit(r): r for r in results["episodes"]}
+    stored, problems = {_unit(r): r for r in results["episodes"]}, []
     units = replay_sample(results, k, fresh_rng() if rng is None else rng)
     for run, claimed in claims.items():
         play = config if run is None else replace(config, training_run=run)

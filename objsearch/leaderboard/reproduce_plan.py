@@ -194,11 +194,10 @@ def make_plan(args: argparse.Namespace) -> Plan:
 
 
 def _trainable(agent: str) -> bool:
-    """Whether ``agent`` is learned: it has a ``train`` hook and is not one of the training-free agents."""
-    from objsearch.eval.registry import resolve_agent
-    from objsearch.leaderboard.paper import TRAINING_FREE
+    """Whether ``agent`` is learned: it has a ``train`` hook and does not declare itself training-free."""
+    from objsearch.eval.registry import is_training_free, resolve_agent
 
-    return agent not in TRAINING_FREE and callable(getattr(resolve_agent(agent), "train", None))
+    return not is_training_free(agent) and callable(getattr(resolve_agent(agent), "train", None))
 
 
 def run_folder(root: Path, suite: str, agent: str, seed: int, variant: str = "") -> Path:

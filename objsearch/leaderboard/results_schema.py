@@ -129,6 +129,7 @@ CONFIG = _object(
         "weights_sha256": _SHA256,
         "training_run": _SEED,
         "episodes": {"type": ["integer", "null"], "minimum": 1, "description": "a positive integer or null"},
+        "checkpoints": _PATH,
     },
     ("agent", "suite", "splits", "seeds"),
 )

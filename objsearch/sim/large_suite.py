@@ -32,16 +32,15 @@ evaluation house in every placement (``objsearch.sim.cache``; about 10 s and 160
 
 from __future__ import annotations
 
-from collections import deque
 from dataclasses import dataclass, replace
 from functools import lru_cache
 
 import numpy as np
 
 from objsearch.house.gen3.build import SMALL_TARGETS
-from objsearch.house.spec import OUTSIDE, HouseSpec
 from objsearch.house.validate import validate_house
 from objsearch.sim.goals import PROTOCOLS, GoalRule
+from objsearch.sim.start_rules import far_starts, room_hops
 from objsearch.sim.world import HouseRef, World
 
 RULE = GoalRule(kind="near_visible", min_pixels=5, max_distance=1.0)
@@ -70,6 +69,10 @@ class Tier:
         keep_goal_caches: whether the build renders the goal camera's caches into the cache
             folder (False: no cache, only the poses near a target are rendered, for a tier whose
             caches would fill a disk and whose suites render live; the same goal poses).
+        min_targets: the fewest of ``targets`` an evaluation house must have starts for in every
+            placement (a seed whose house has fewer is skipped, as an invalid one is), so that
+            every evaluation house plays episodes; 0: not asked (the tiers built before it).
+        version: the files' version number (``<suite>-v<version>``).
     """
 
     placements: dict[str, str]
@@ -85,6 +88,8 @@ class Tier:
     target_share: float = 0.5
     generator: str = "house-gen-3"
     keep_goal_caches: bool = True
+    min_targets: int = 0
+    version: int = 1
 
     @property
     def names(self) -> tuple[str, ...]:
@@ -167,6 +172,8 @@ LARGE_V2 = Tier(
     targets=LARGE_TARGETS,
     generator="house-gen-4",
     keep_goal_caches=False,
+    min_targets=2,
+    version=2,
 )
 TIERS = {name: tier for tier in (LARGE, *SWEEP.values(), LARGE_V2) for name in tier.names}
 # The large tier's values, by the names the tests and docs use.
@@ -201,41 +208,22 @@ def _valid_worlds(tier: Tier, seed: int, split: str) -> dict[str, World] | None:
     return worlds
 
 
-def pick_houses(tier: Tier, part: str) -> list[dict[str, World]]:
+def pick_houses(tier: Tier, part: str, playable=None) -> list[dict[str, World]]:
     """The first ``tier.counts[part]`` seeds of ``tier.seeds[part]`` valid in every placement of
-    ``tier``, each as ``{placement: World}`` (generator split ``train`` for the training part,
-    ``test``, unseen object instances, for the others)."""
+    ``tier`` (and, given ``playable``, for which ``playable(worlds)`` holds), each as
+    ``{placement: World}`` (generator split ``train`` for the training part, ``test``, unseen
+    object instances, for the others)."""
     seeds, count, split = tier.seeds[part], tier.counts[part], "train" if part == "train" else "test"
     picked = []
     for seed in seeds:
         worlds = _valid_worlds(tier, seed, split)
-        if worlds is not None:
+        if worlds is not None and (playable is None or playable(worlds)):
             picked.append(worlds)
             if len(picked) == count:
                 return picked
-    raise RuntimeError(f"only {len(picked)} of {count} valid {tier.generator} houses among seeds {seeds}")
-
-
-def room_hops(spec: HouseSpec) -> np.ndarray:
-    """Doors between every pair of rooms (int (R, R), by room id; -1: not connected), the entrance ignored."""
-    n = len(spec.rooms)
-    neighbours: list[list[int]] = [[] for _ in range(n)]
-    for door in spec.doors:
-        a, b = door.rooms
-        if OUTSIDE not in (a, b):
-            neighbours[a].append(b)
-            neighbours[b].append(a)
-    hops = np.full((n, n), -1, dtype=np.int64)
-    for start in range(n):
-        hops[start, start] = 0
-        todo = deque([start])
-        while todo:
-            room = todo.popleft()
-            for nxt in neighbours[room]:
-                if hops[start, nxt] < 0:
-                    hops[start, nxt] = hops[start, room] + 1
-                    todo.append(nxt)
-    return hops
+    raise RuntimeError(
+        f"only {len(picked)} of {count} valid (and playable) {tier.generator} houses among seeds {seeds}"
+    )
 
 
 class _Placed:
@@ -263,13 +251,8 @@ class _Placed:
     def start_ok(self, target: str, ids: np.ndarray) -> np.ndarray:
         """Which of the poses ``ids`` (-1: not free here) may start an episode for ``target``."""
         steps, metres = self.steps_and_metres(target)
-        free = ids >= 0
-        safe = np.where(free, ids, 0)
-        holders = sorted({o.room for o in self.world.spec.objects if o.category == target})
-        room = self.rooms[safe]
-        hops = self.hops[np.maximum(room, 0)][:, holders]  # doors to each room holding the target
-        far_rooms = (room >= 0) & np.all((hops >= self.tier.min_room_hops) | (hops < 0), axis=1)
-        return free & (steps[safe] >= 0) & (metres[safe] >= self.tier.min_geodesic) & far_rooms
+        rule = (self.tier.min_geodesic, self.tier.min_room_hops)
+        return far_starts(self.world, target, ids, steps, metres, *rule, rooms=self.rooms, hops=self.hops)
 
 
 def _common_targets(targets: tuple[str, ...], share: float, placed: dict[str, _Placed]) -> set[str]:
@@ -301,26 +284,68 @@ def _tier_goal_ids(tier: Tier, world: World, cache_dir: str | None) -> dict[str,
     return _near_goal_ids(world, SMALL_TARGETS, RULE)
 
 
+class _Starts:
+    """The poses that may start an episode for a target in a house, in every placement at once:
+    every pose of the house's functional graph is a candidate, kept where ``_Placed.start_ok``
+    holds in every placement."""
+
+    def __init__(self):
+        self.tuples: dict[str, np.ndarray] = {}  # house -> its functional (row, col, heading) poses
+        self.pose_ids: dict[tuple[str, str], np.ndarray] = {}  # (placement, house) -> those poses' ids there
+        self._ok: dict[tuple[str, str], np.ndarray] = {}  # (house, target) -> the candidates that may start
+
+    def add(self, house: str, here: dict[str, _Placed]) -> None:
+        """Take ``house`` in its placements ``here`` (by placement, the functional one among them)."""
+        self.tuples[house] = np.array(here["functional"].world.graph.pose_tuples, dtype=np.int64)
+        for p, placed in here.items():
+            self.pose_ids[p, house] = placed.pose_ids(self.tuples[house])
+
+    def of(self, house: str, target: str, here: dict[str, _Placed]) -> np.ndarray:
+        """The candidates (indices into ``tuples[house]``) that may start ``target``'s episodes."""
+        if (house, target) not in self._ok:
+            ok = np.ones(len(self.tuples[house]), dtype=bool)
+            for p, placed in here.items():
+                ok &= placed.start_ok(target, self.pose_ids[p, house])
+            self._ok[house, target] = np.flatnonzero(ok)
+        return self._ok[house, target]
+
+
 def build_tier(tier: Tier, cache_dir: str | None = None) -> dict[str, dict]:
     """The suite files of ``tier``, by name, built together from its fixed seeds (the module
     docstring)."""
     from objsearch.sim.suite_record import _suite_record, house_entry
 
-    groups = {part: pick_houses(tier, part) for part in tier.counts}
+    candidates = tier.targets or SMALL_TARGETS
     parts = tuple(tier.episodes)  # the evaluation splits
     placed: dict[str, dict[str, _Placed]] = {p: {} for p in tier.placements.values()}  # placement -> house -> _Placed
+    starts = _Starts()
+
+    def place(worlds: dict[str, World]) -> dict[str, _Placed]:
+        here = {p: _Placed(tier, world, _tier_goal_ids(tier, world, cache_dir)) for p, world in worlds.items()}
+        starts.add(worlds["functional"].house_id, here)
+        return here
+
+    def playable(worlds: dict[str, World]) -> bool:
+        """Whether the house has starts for ``tier.min_targets`` candidate targets in every
+        placement (its placements kept for the draw when it has)."""
+        house, here = worlds["functional"].house_id, place(worlds)
+        have = [t for t in candidates if all(t in placed_p.goal_ids for placed_p in here.values())]
+        if sum(len(starts.of(house, t, here)) > 0 for t in have) < tier.min_targets:
+            return False
+        for p, placed_p in here.items():
+            placed[p][house] = placed_p
+        return True
+
+    groups = {
+        part: pick_houses(tier, part, playable if tier.min_targets and part in parts else None) for part in tier.counts
+    }
     for part in parts:
         for worlds in groups[part]:
-            for placement, world in worlds.items():
-                goal_ids = _tier_goal_ids(tier, world, cache_dir)
-                placed[placement][world.house_id] = _Placed(tier, world, goal_ids)
-    candidates = tier.targets or SMALL_TARGETS
+            if worlds["functional"].house_id not in placed["functional"]:
+                for p, placed_p in place(worlds).items():
+                    placed[p][worlds["functional"].house_id] = placed_p
     targets = sorted(set.intersection(*(_common_targets(candidates, tier.target_share, placed[p]) for p in placed)))
     rng = np.random.default_rng(tier.build_seed)
-    # the start candidates: every pose of a house's functional graph, and where each is in every placement
-    tuples = {h: np.array(here.world.graph.pose_tuples, dtype=np.int64) for h, here in placed["functional"].items()}
-    pose_ids = {(p, h): placed[p][h].pose_ids(tuples[h]) for p in placed for h in tuples}
-    starts_of: dict[tuple[str, str], np.ndarray] = {}  # (house, target) -> candidates that may start its episodes
     episodes = {p: {} for p in placed}
     for part in parts:
         ids = sorted(w["functional"].house_id for w in groups[part])
@@ -328,22 +353,18 @@ def build_tier(tier: Tier, cache_dir: str | None = None) -> dict[str, dict]:
             episodes[p][part] = []
         while len(episodes["functional"][part]) < tier.episodes[part]:
             house = ids[int(rng.integers(len(ids)))]
-            have = [t for t in targets if all(t in placed[p][house].goal_ids for p in placed)]
+            here = {p: placed[p][house] for p in placed}
+            have = [t for t in targets if all(t in here[p].goal_ids for p in placed)]
             if not have:
                 continue
             target = have[int(rng.integers(len(have)))]
-            if (house, target) not in starts_of:
-                ok = np.ones(len(tuples[house]), dtype=bool)
-                for p in placed:
-                    ok &= placed[p][house].start_ok(target, pose_ids[p, house])
-                starts_of[house, target] = np.flatnonzero(ok)
-            starts = starts_of[house, target]
-            if len(starts) == 0:
+            ok = starts.of(house, target, here)
+            if len(ok) == 0:
                 continue
-            k = int(starts[rng.integers(len(starts))])
-            start = tuples[house][k]
+            k = int(ok[rng.integers(len(ok))])
+            start = starts.tuples[house][k]
             for p in placed:
-                pose = int(pose_ids[p, house][k])
+                pose = int(starts.pose_ids[p, house][k])
                 steps, metres = placed[p][house].steps_and_metres(target)
                 episodes[p][part].append(
                     {
@@ -373,7 +394,7 @@ def build_tier(tier: Tier, cache_dir: str | None = None) -> dict[str, dict]:
         }
         out[name] = _suite_record(
             name,
-            f"{name}-v1",
+            f"{name}-v{tier.version}",
             {"targets": targets},
             {house: info for part in parts for house, info in entry[part].items()},
             entry.get("train", {}),

@@ -25,6 +25,7 @@ from objsearch.sim.goals import PROTOCOLS
 from objsearch.sim.house_task import START_STEPS, STARTS, entrance_poses
 from objsearch.sim.large_suite import build_tier_suite
 from objsearch.sim.rooms_suite import build_rooms_suite
+from objsearch.sim.start_rules import MadeRules, far_episodes, far_tables
 from objsearch.sim.suite_record import _episodes, _goal_ids, _goal_table, _suite_record, house_entry
 from objsearch.sim.suites import (
     SHIPPED_SUITES,
@@ -251,6 +252,7 @@ def suite_from_houses(
     cache_dir: str | None = None,
     starts: str = "anywhere",
     protocol: str = "paper",
+    rules: MadeRules | None = None,
 ) -> dict:
     """The suite file to write at ``out`` for the houses under ``houses_dir`` (the folders
     ``objsearch generate --out`` writes), made as ``build_suite`` makes the shipped ones: goal
@@ -267,12 +269,22 @@ def suite_from_houses(
 
     ``protocol``: ``paper`` (default) or ``objectnav`` (``objsearch.sim.goals.PROTOCOLS``): its
     goal rule picks the goal poses, its step limit is the file's, and under ``objectnav``
-    ``min_steps`` counts the STOP; the file records it (only when not ``paper``)."""
+    ``min_steps`` counts the STOP; the file records it (only when not ``paper``).
+
+    ``rules`` (``start_rules.MadeRules``; None: none): the large-house tier's rules for the file, where set: the goal
+    rule's pixels and distance (ObjectNav), far starts (walking metres and doors from the
+    target: then drawn uniformly among every pose that meets them, not ``START_STEPS``), the
+    step limit and the standard seeds."""
     if starts not in STARTS:
         raise UserError(f"unknown starts {starts!r}; use one of {', '.join(STARTS)}")
     if protocol not in PROTOCOLS:
         raise UserError(f"unknown protocol {protocol!r}; use one of {', '.join(PROTOCOLS)}")
-    rules = PROTOCOLS[protocol]
+    made = rules or MadeRules()
+    rules = made.protocol(PROTOCOLS[protocol])
+    if made.far and starts != "anywhere":
+        raise UserError(
+            f"--starts {starts} and far starts (--min-distance, --min-room-hops) exclude each other; give one"
+        )
     root, base = Path(houses_dir), Path(out).resolve().parent
     wanted = _check_targets(targets) if targets else list(TARGETS)
     worlds, houses, folders = {}, {}, {}
@@ -288,13 +300,17 @@ def suite_from_houses(
         houses[world.house_id] = house_entry(world, HouseRef(path=stored))
         if starts == "entrance":
             entrance_poses(world)  # a house without an entrance: UserError now, not after rendering
-    tables = {house: _goal_table(world, wanted, cache_dir, rules.goal_rule) for house, world in worlds.items()}
+    if made.far:
+        tables, far = far_tables(worlds, wanted, cache_dir, rules.goal_rule, made)
+    else:
+        tables = {house: _goal_table(world, wanted, cache_dir, rules.goal_rule) for house, world in worlds.items()}
     if targets:
         for target in wanted:
             if not any(target in table for table in tables.values()):
+                where = made.describe() if made.far else f"{START_STEPS[0]}-{START_STEPS[1]} steps"
                 raise UserError(
-                    f"target {target!r} has no goal pose {START_STEPS[0]}-{START_STEPS[1]} steps from a "
-                    f"start in any house under {root}; drop it from --targets"
+                    f"target {target!r} has no goal pose with a start {where} from it in any house under "
+                    f"{root}; drop it from --targets"
                 )
     else:
         wanted = _found_in_half(tables, list(worlds))
@@ -305,8 +321,31 @@ def suite_from_houses(
             )
     goals = {house: {t: poses for t, poses in table.items() if t in wanted} for house, table in tables.items()}
     rng = np.random.default_rng(seed)
-    splits = {Path(out).stem: _episodes(worlds, goals, wanted, episodes, rng, starts, rules.stop)}
-    return _suite_record(Path(out).stem, None, {"targets": wanted}, houses, {}, goals, splits, rules, starts)
+    if made.far:
+        drawn = far_episodes(worlds, far, wanted, episodes, rng, rules.stop)
+        limit, longest = made.max_steps or rules.max_steps, max(e["min_steps"] for e in drawn)
+        if longest > limit:
+            raise UserError(
+                f"a start drawn {made.describe()} from its target needs {longest} steps, past the step limit "
+                f"{limit}: raise --max-steps or lower --min-distance / --min-room-hops"
+            )
+        start_steps = min(e["min_steps"] for e in drawn) - rules.stop, max(e["min_steps"] for e in drawn) - rules.stop
+    else:
+        drawn, start_steps = _episodes(worlds, goals, wanted, episodes, rng, starts, rules.stop), START_STEPS
+    return _suite_record(
+        Path(out).stem,
+        None,
+        {"targets": wanted},
+        houses,
+        {},
+        goals,
+        {Path(out).stem: drawn},
+        rules,
+        starts,
+        max_steps=made.max_steps,
+        start_steps=start_steps,
+        seeds=made.seeds,
+    )
 
 
 def house_folders(root: Path) -> list[Path]:

@@ -123,12 +123,12 @@ class ShippedSuite:
 
 # The large-house tier's second version (large_suite.LARGE_V2): its six placements, drawn together.
 LARGE_V2 = {
-    "house-large-v2": "c7408256217f960203a09a2581f11d822ee590248af2c9c7e2b53e556e5d66dc",
-    "house-large-v2-p25": "b61cd3cfa2366527be1490bf76ef61fa5922bf313a4ab3139ebc7df508da322e",
-    "house-large-v2-p50": "7a323f2ccf21506a6e520606533c4143fb76a366774680be2939a4bd64b75c1a",
-    "house-large-v2-p75": "cdecbee64d1d792858a99f26b5f4b8d89072e5342e14ee90e4fa248c52820dd9",
-    "house-large-v2-shuffled": "f76f9b59d2e6aafe8046198a5de95189bea83f9931658297a8bd0f5615199641",
-    "house-large-v2-roomwise": "417c919b71553eccc6f1e19d6a1d020b30c75584b31e1266b4d1e28b064831b5",
+    "house-large-v2": "6a5d422192ac9ccf2835367cf47c8e2cfaa06ac6099e5d620d0b125eaedd03c3",
+    "house-large-v2-p25": "08e873952d021a260d9bbbb4038d90ab135f482f238b37724e5a2a4341c59643",
+    "house-large-v2-p50": "943f329f0ccbfdbf2df9e313484e3fe35c4060c0779fc3cd83b77ddf25aad62b",
+    "house-large-v2-p75": "b608eaebb1bcf6e72e2cd628710ab65456d5bea2a760314ab61338f12f0e059e",
+    "house-large-v2-shuffled": "d18a8565160fa1a9e57f6abc2d82c8b49adabc9ec98287b7b69c6c630d6cf69f",
+    "house-large-v2-roomwise": "10a1f6123d47fe51ea0409ffe34ee51c9800161a14d695a8f026a574dd5b7273",
 }
 # The shipped house suites, in this order for good: a suite's index seeds its builder.
 SHIPPED = (

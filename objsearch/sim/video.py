@@ -3,8 +3,11 @@
 The map is the house's plan (``objsearch.house.preview``) with the target's objects
 outlined, its goal poses, a shortest path and the agent's trajectory, under a title naming
 the target, the step count and the outcome, above a legend of those marks. The MP4 shows,
-one step a frame, the egocentric view with the same title, step count and legend under it,
-beside the map of the trajectory so far.
+one step a frame (``FPS`` a second), what the agent observed side by side (RGB, depth on a
+colour scale, the semantic labels with the target in the map's magenta), under them the
+target, the step count, the map's legend and a legend of the categories in view, and beside
+all that the map of the trajectory so far. With predicted observations the depth and labels
+are the network's, as the agent saw them.
 """
 
 from __future__ import annotations
@@ -18,7 +21,18 @@ import cv2
 import numpy as np
 
 from objsearch.fileio import atomic_write
-from objsearch.house.plan_canvas import HIGHLIGHT, PX, ROW_H, SYMBOL_W, TITLE_H, PlanLayout, plan_layout, put_text
+from objsearch.house.categories import CATEGORY_IDS, CATEGORY_NAMES, FIRST_OBJECT_ID, STRUCTURE
+from objsearch.house.plan_canvas import (
+    HIGHLIGHT,
+    PX,
+    ROW_H,
+    SYMBOL_W,
+    TITLE_H,
+    PlanLayout,
+    plan_layout,
+    put_text,
+    text_width,
+)
 from objsearch.house.plan_legend import (
     LegendEntry,
     draw_footer,
@@ -33,9 +47,18 @@ from objsearch.house.preview import draw_plan
 from objsearch.sim.navgraph import GRID, HEADING_VECTORS
 from objsearch.sim.world import World
 
-FPS = 4
-VIEW = 256  # egocentric view height (and width of the panel under it) in the video, pixels
-PANEL_H = 150  # the text panel under the view in the video
+FPS = 10
+VIEW = 256  # each egocentric view in the video, pixels a side (RGB, depth and labels side by side)
+PANEL_H = 150  # the text panel under the views
+DEPTH_RANGE = 5.0  # metres: the depth view's colour scale runs from 0 to this (farther: its far end)
+# the semantic view's colours of the structure (BGR); objects get well-spread hues, the target magenta
+STRUCTURE_COLORS = {
+    "background": (0, 0, 0),
+    "wall": (150, 150, 150),
+    "floor": (110, 160, 200),
+    "door": (40, 120, 200),
+    "ceiling": (215, 215, 215),
+}
 TRAJECTORY = (40, 40, 220)  # BGR red
 SHORTEST = (200, 120, 40)  # BGR blue
 GOAL = (60, 170, 60)  # BGR green
@@ -184,28 +207,81 @@ def _encode_png(img: np.ndarray) -> bytes:
     return data.tobytes()
 
 
-def _panel(target: str | None) -> np.ndarray:
-    """The video's text panel without its step line: the target and the legend."""
-    panel = np.full((PANEL_H, VIEW, 3), 255, np.uint8)
+def label_colors(target: str | None = None) -> np.ndarray:
+    """The semantic view's colour of every label id (256 x 3, BGR): ``STRUCTURE_COLORS``, each
+    object category a hue of its own (golden-ratio steps round the wheel), ``target`` magenta."""
+    ids = np.arange(256)
+    hsv = np.stack([(ids * 0.618034 % 1.0) * 180, np.full(256, 150), np.full(256, 215)], axis=1)
+    lut = cv2.cvtColor(hsv.astype(np.uint8)[None], cv2.COLOR_HSV2BGR)[0]
+    for name, color in STRUCTURE_COLORS.items():
+        lut[STRUCTURE[name]] = color
+    lut[len(STRUCTURE) : FIRST_OBJECT_ID] = (0, 0, 0)  # unused ids
+    if target in CATEGORY_IDS:
+        lut[CATEGORY_IDS[target]] = HIGHLIGHT
+    return lut
+
+
+def observation_views(obs: dict, lut: np.ndarray) -> np.ndarray:
+    """RGB | depth | labels of one observation, each ``VIEW`` pixels high (its aspect kept) and
+    captioned (BGR)."""
+    depth = np.clip(np.nan_to_num(np.asarray(obs["depth"], np.float32)) / DEPTH_RANGE, 0.0, 1.0)
+    views = (
+        ("RGB", np.ascontiguousarray(np.asarray(obs["rgb"])[:, :, ::-1])),
+        (f"depth 0-{DEPTH_RANGE:g} m", cv2.applyColorMap(np.round(depth * 255).astype(np.uint8), cv2.COLORMAP_VIRIDIS)),
+        ("labels", lut[np.asarray(obs["semantic"])]),
+    )
+    out, (h, w) = [], np.asarray(obs["rgb"]).shape[:2]
+    for caption, img in views:
+        img = cv2.resize(img, (int(round(w * VIEW / h)), VIEW), interpolation=cv2.INTER_NEAREST)
+        cv2.rectangle(img, (0, 0), (text_width(caption, 0.4) + 8, 17), (0, 0, 0), -1)
+        put_text(img, caption, (4, 13), 0.4, color=(255, 255, 255))
+        out.append(img)
+    return np.concatenate(out, axis=1)
+
+
+def _swatch(color):
+    def draw(img, x, y):
+        cv2.rectangle(img, (x + 4, y + 3), (x + SYMBOL_W - 5, y + 15), tuple(int(c) for c in color), -1)
+        cv2.rectangle(img, (x + 4, y + 3), (x + SYMBOL_W - 5, y + 15), (0, 0, 0), 1)
+
+    return draw
+
+
+def in_view_legend(
+    semantic: np.ndarray, lut: np.ndarray, target: str | None, width: int, rows: int
+) -> list[LegendEntry]:
+    """The object categories in a labels view, the target first, then by pixels, as many as
+    ``rows`` legend rows of ``width`` pixels hold."""
+    counts = np.bincount(np.asarray(semantic).ravel(), minlength=256)
+    ids = [int(i) for i in np.argsort(-counts, kind="stable") if counts[i] and i >= FIRST_OBJECT_ID]
+    if target in CATEGORY_IDS and CATEGORY_IDS[target] in ids:
+        ids.remove(CATEGORY_IDS[target])
+        ids.insert(0, CATEGORY_IDS[target])
+    entries = [(CATEGORY_NAMES.get(i, str(i)).replace("_", " "), _swatch(lut[i])) for i in ids]
+    while entries and legend_size(entries, width)[1] > rows * ROW_H:
+        entries.pop()
+    return entries
+
+
+def _panel(target: str | None, width: int) -> np.ndarray:
+    """The video's text panel without its step line and categories in view: the target and the
+    map's legend, ``width`` pixels wide."""
+    panel = np.full((PANEL_H, width, 3), 255, np.uint8)
     put_text(panel, f"target: {target.replace('_', ' ')}" if target else "episode", (6, 18), 0.5)
-    entries = map_legend(target)
-    if legend_size(entries, VIEW - 8)[1] > PANEL_H - 44:  # two columns of one entry a row
-        for i, (label, symbol) in enumerate(entries):
-            x, y = 4 + (i % 2) * (VIEW // 2), 44 + (i // 2) * ROW_H
-            symbol(panel, x, y)
-            put_text(panel, label, (x + SYMBOL_W + 4, y + 13), 0.36)
-    else:
-        draw_legend(panel, entries, 4, 44, VIEW - 8)
+    draw_legend(panel, map_legend(target), 4, 44, width - 8)
     return panel
 
 
-def write_episode(out_stem: str | Path, world: World, task, trajectory, views, success: bool | None = None) -> None:
-    """Write ``<out_stem>.png`` (the map) and ``<out_stem>.mp4`` (view and text | map, per step).
+def write_episode(
+    out_stem: str | Path, world: World, task, trajectory, observations, success: bool | None = None
+) -> None:
+    """Write ``<out_stem>.png`` (the map) and ``<out_stem>.mp4`` (views and text | map, per step).
 
     Args:
         task: the episode's ``HouseTask`` (start, target, goals, min_steps).
         trajectory: (row, col, heading) of every pose visited, the start first.
-        views: the RGB observation at each of those poses (uint8 H x W x 3).
+        observations: the observation at each of those poses: ``rgb`` (uint8 H x W x 3),
+            ``depth`` (metres, H x W) and ``semantic`` (label ids, H x W), as the agent got them.
         success: whether the target was found (None: not known, not shown).
     """
     out_stem = Path(out_stem)
@@ -224,9 +300,12 @@ def write_episode(out_stem: str | Path, world: World, task, trajectory, views, s
     layout = plan_layout(world.spec)  # the video's map: the plan alone, the text is in the panel
     height = VIEW + PANEL_H
     map_w = int(round(layout.width * height / layout.height)) // 2 * 2
-    view_w = int(round(views[0].shape[1] * VIEW / views[0].shape[0]))
-    size = (max(view_w, VIEW) + map_w, height)
-    panel = _panel(target)
+    lut = label_colors(target)
+    views_w = observation_views(observations[0], lut).shape[1]
+    size = (views_w + map_w, height)
+    panel = _panel(target, views_w)
+    legend_top = 44 + legend_size(map_legend(target), views_w - 8)[1] + 6  # the categories in view below
+    rows = (PANEL_H - legend_top - 14) // ROW_H
     last = len(trajectory) - 1
     fd, tmp = tempfile.mkstemp(dir=out_stem.parent, suffix=".mp4")
     os.close(fd)
@@ -242,15 +321,16 @@ def write_episode(out_stem: str | Path, world: World, task, trajectory, views, s
         blank = np.full((height, size[0], 3), 255, np.uint8)
         for step in range(len(trajectory)):
             frame = blank.copy()
-            frame[:VIEW, :view_w] = cv2.resize(
-                np.ascontiguousarray(views[step][:, :, ::-1]), (view_w, VIEW), interpolation=cv2.INTER_NEAREST
-            )
-            text = frame[VIEW:, :VIEW]
+            frame[:VIEW, :views_w] = observation_views(observations[step], lut)
+            text = frame[VIEW:, :views_w]
             text[:] = panel
             line = f"step {step}" + (f" (shortest {min_steps})" if min_steps is not None else "")
             if step == last and success is not None:
                 line += " - found" if success else " - not found"
             put_text(text, line, (6, 36), 0.45)
+            seen = in_view_legend(observations[step]["semantic"], lut, target, views_w - 8 - 70, rows)
+            put_text(text, "in view:", (6, legend_top + 13), 0.4)
+            draw_legend(text, seen, 70, legend_top, views_w - 8 - 70)
             if step:
                 _draw_move(drawn, layout, trajectory[step - 1], trajectory[step], scale)
             step_map = frame[:, size[0] - map_w :]

@@ -1,3 +1,4 @@
+import math
 from pathlib import Path
 
 import cv2
@@ -99,3 +100,28 @@ def test_an_agent_without_a_shipped_checkpoint_starts_untrained(monkeypatch):
 
     monkeypatch.setattr(DQNAgent, "checkpoint_name", "not-shipped")
     assert DQNAgent().loaded_from is None
+
+
+def test_house_figure_labels_cross_no_node_and_no_other_label():
+    """The labels run outwards along their nodes' rays: with the 24 longest category names none
+    covers a node or another label, and all stay inside the picture (the paper's Figure 5)."""
+    from objsearch.house.categories import CATEGORY_NAMES, FIRST_OBJECT_ID
+    from objsearch_agents.house.grg_figure import FONT, FONT_SCALE, NODE_R, label_box, node_angles
+
+    objects = [n for i, n in CATEGORY_NAMES.items() if i >= FIRST_OBJECT_ID]
+    size, names = 720, sorted(objects, key=lambda n: -cv2.getTextSize(n, FONT, FONT_SCALE, 1)[0][0])[:24]
+    centre, radius = size / 2, size * 0.30
+    angles = node_angles(len(names))
+    nodes = [(int(centre + radius * math.cos(a)), int(centre + radius * math.sin(a))) for a in angles]
+    masks = []
+    for name, (x, y), angle in zip(names, nodes, angles):
+        box = label_box(name, x, y, angle)
+        assert box.min() >= 0 and box.max() < size, f"{name}'s label leaves the picture"
+        mask = np.zeros((size, size), np.uint8)
+        cv2.fillPoly(mask, [np.round(box).astype(np.int32)], 1)
+        for other in nodes:
+            ring = np.zeros_like(mask)
+            cv2.circle(ring, other, NODE_R, 1, -1)
+            assert not (mask & ring).any(), f"{name}'s label covers a node"
+        masks.append(mask)
+    assert np.sum(masks, axis=0).max() == 1, "two labels overlap"

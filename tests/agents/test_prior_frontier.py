@@ -59,7 +59,7 @@ def test_the_calibration_agent_marks_the_targets_rooms(houses):
         observation_space=None,
         action_space=None,
         rng=np.random.default_rng(0),
-        privileged=HousePath(world.graph, HouseTask(world.house_id, start, target.category, (), 0), True, world),
+        privileged=HousePath(HouseTask(world.house_id, start, target.category, (), 0), True, world),
     )
     mask = target_room_mask(task, margin=0.0)
     rooms = {o.room for o in world.spec.objects if o.category == target.category}

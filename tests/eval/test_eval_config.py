@@ -41,6 +41,7 @@ def a_config_unlike_the_defaults(checkpoint) -> ConfigWithANewField:
         step_time_limit=3.5,
         weights_sha256="a stale digest",
         episodes=4,
+        checkpoints=str(checkpoint.parent),  # as a replay of an entry recording its folder gives it: kept
         new_field="kept",
     )
     config = ConfigWithANewField(**values)

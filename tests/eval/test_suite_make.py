@@ -222,3 +222,58 @@ def test_shipped_agents_run_on_your_suite_with_the_checkpoint_of_its_generator(m
         "no hdqn checkpoint",
         "`objsearch train --agent hdqn --suite my-suite.json` (it writes runs/my-suite/hdqn-seed0)",
     )
+
+
+def test_suite_make_takes_the_large_tiers_rules(made, cache_dir, tmp_path):
+    """``--goal-pixels/--goal-distance`` (ObjectNav), far starts (``--min-distance``,
+    ``--min-room-hops``), ``--max-steps`` and ``--seeds``: the file records them, its goal poses
+    follow the rule, every start meets the far-start rule, and a full evaluation plays its seeds."""
+    from objsearch.house.categories import CATEGORY_IDS
+    from objsearch.sim.cache import HouseCache
+    from objsearch.sim.goals import GOAL_CAMERA, GoalRule, goal_poses
+    from objsearch.sim.start_rules import room_hops
+    from objsearch.sim.suites import load_houses, load_suite_file
+
+    shutil.copytree(made / "houses", tmp_path / "houses")
+    rules = ["--protocol", "objectnav", "--goal-pixels", "5", "--goal-distance", "1.5", "--max-steps", "300"]
+    far = ["--min-distance", "3", "--min-room-hops", "1", "--seeds", "1,2"]
+    make = ["objsearch", "suite", "make", "--houses", "houses", "--episodes", "12", "--cache-dir", cache_dir]
+    out = run(*make, *rules, *far, "--out", "far.json", cwd=tmp_path)
+    assert out.returncode == 0, out.stderr
+    raw = json.loads((tmp_path / "far.json").read_text())
+    rule = {k: v for k, v in raw["goal_rule"].items() if k != "version"}
+    assert rule == {"kind": "near_visible", "top_k": 5, "min_pixels": 5, "max_distance": 1.5}
+    assert raw["max_steps"] == 300 and raw["seeds"] == [1, 2]
+    worlds = load_houses(load_suite_file(str(tmp_path / "far.json")))
+    for house, table in raw["goals"].items():
+        cache = HouseCache.open(worlds[house], GOAL_CAMERA, cache_dir, progress=False)
+        for target, poses in table.items():
+            ids = goal_poses(cache.semantic, cache.depth, CATEGORY_IDS[target], GoalRule(**rule))
+            assert [list(worlds[house].graph.pose_of(int(i))) for i in ids] == poses
+    moves = []
+    for item in raw["splits"]["far"]:
+        world = worlds[item["house"]]
+        graph, start = world.graph, world.graph.pose_id(*item["start"])
+        goals = [graph.pose_id(*g) for g in raw["goals"][item["house"]][item["target"]]]
+        assert graph.geodesic_metres(goals)[start] >= 3 and item["geodesic"] >= 3
+        assert item["min_steps"] == graph.shortest_steps(goals)[start] + 1
+        holders = {o.room for o in world.spec.objects if o.category == item["target"]}
+        room = int(world.cell_rooms[start // 4])
+        assert all(room_hops(world.spec)[room, h] >= 1 for h in holders)  # not in a room that holds it
+        moves.append(item["min_steps"] - 1)
+    assert raw["start_steps"] == [min(moves), max(moves)]
+    out = run("objsearch-eval", "--agent", "oracle", "--suite", "far.json", "--quiet", "--out", "r.json", cwd=tmp_path)
+    assert out.returncode == 0, out.stderr
+    results = json.loads((tmp_path / "r.json").read_text())
+    assert results["seeds"] == [1, 2] and all(r["success"] for r in results["episodes"])
+
+    assert_clean_error(run(*make, "--goal-pixels", "5", "--out", "p.json", cwd=tmp_path), "--protocol objectnav")
+    assert_clean_error(
+        run(*make, "--min-distance", "3", "--starts", "entrance", "--out", "e.json", cwd=tmp_path), "exclude each other"
+    )
+    assert_clean_error(
+        run(*make, "--targets", "bed", "--min-distance", "1000", "--out", "n.json", cwd=tmp_path),
+        "target 'bed'",
+        "1000 m walking",
+    )
+    assert not any((tmp_path / name).exists() for name in ("p.json", "e.json", "n.json"))

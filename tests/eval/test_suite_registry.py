@@ -38,11 +38,17 @@ def test_an_option_the_suite_lacks_is_refused_naming_the_suites_that_take_it():
     assert suites_taking("max_steps") == [*SUITES, "suite files (.json)"]
 
 
-def test_suite_list_prints_every_registered_suite(capsys):
+def test_suite_list_prints_every_suite_with_its_protocol_splits_episodes_and_seeds(capsys):
     assert main(["suite", "list"]) == 0
     lines = capsys.readouterr().out.splitlines()
-    assert [line.split()[0] for line in lines] == [*SUITES, "FILE.json"]
-    assert "options: maps, tasks, max_steps" in lines[0]
+    rows = {line.split()[0]: line for line in lines[1 : 1 + len(SUITES)]}
+    assert list(rows) == list(SUITES)
+    assert rows["gridworld"].split()[1:4] == ["gridworld", "paper", "100"]
+    assert "seen-goals 100, unseen-goals 100, all-goals 100  1,5,13,45,99" in rows["gridworld"]
+    assert rows["house-large"].split()[1:4] == ["house", "objectnav", "500"]
+    assert rows["house-large"].endswith("val 100, test 200  1")
+    assert "options of the gridworld suites: maps, tasks, max_steps" in lines
+    assert any(line.startswith("options of the house suites (and FILE.json") for line in lines)
 
 
 def test_suite_rebuild_writes_the_builders_file_where_the_harness_reads_it(monkeypatch, tmp_path, capsys):

@@ -126,7 +126,8 @@ def test_add_stores_several_files_in_one_write_or_none(tmp_path, full_oracle, fu
     stored = tmp_path / "leaderboard/submissions/gridworld"
 
     out = cli("add", "oracle.json", "bad.json", "--create", cwd=tmp_path)
-    assert out.returncode == 2 and "bad.json is rejected" in out.stderr and not stored.exists()
+    assert out.returncode == 2 and "bad.json is rejected" in out.stderr
+    assert not (tmp_path / "leaderboard").exists()  # --create made nothing for files that did not pass
     out = cli("add", "oracle.json", "random.json", "--name", "mine", "--create", cwd=tmp_path)
     assert out.returncode == 2 and "--name names one entry" in out.stderr
     out = cli("add", "oracle.json", "oracle.json", "--create", cwd=tmp_path)
@@ -270,3 +271,30 @@ def test_table3_has_a_trained_on_predictions_row_only_for_a_method_that_has_one(
         "| HRL-GRG | predicted, trained on it | 1* | **0.90 / 0.40** | **0.80 / 0.30** | not run | not run |" in tables
     )
     assert "| A3C | predicted, trained on it |" not in tables and tables.count("| A3C |") == 2
+
+
+def test_add_checks_again_only_the_stored_entries_that_changed_since_it_checked_them(
+    tmp_path, full_oracle, full_random
+):
+    from objsearch.leaderboard.checked import MEMO
+
+    (tmp_path / "oracle.json").write_text(json.dumps(full_oracle))
+    (tmp_path / "random.json").write_text(json.dumps(full_random))
+    assert cli("add", "oracle.json", "random.json", "--create", cwd=tmp_path).returncode == 0
+    memo = tmp_path / "leaderboard" / MEMO
+    assert len(next(iter(json.loads(memo.read_text()).values()))) == 2  # both entries as stored
+    # an unchanged stored entry is not checked again, so another entry goes in
+    out = cli("add", "random.json", "--name", "random2", cwd=tmp_path)
+    assert out.returncode == 2 and "holds the same results as the stored entry" in out.stderr  # still compared
+    # a stored entry edited by hand is checked again, and refused, whatever the memo says
+    stored = tmp_path / "leaderboard/submissions/gridworld/random.json"
+    edited = json.loads(stored.read_text())
+    edited["episodes"].pop()
+    stored.write_text(json.dumps(edited))
+    out = cli("add", "oracle.json", "--replace", "--name", "oracle", cwd=tmp_path)
+    assert out.returncode == 2 and "random.json is rejected: 1 missing episode(s)" in out.stderr, out.stderr
+    # a memo that is not one (damaged, or another's) only costs time
+    memo.write_text("not json")
+    stored.write_text(json.dumps(full_random))
+    out = cli("add", "oracle.json", "--replace", "--name", "oracle", cwd=tmp_path)
+    assert out.returncode == 0, out.stderr

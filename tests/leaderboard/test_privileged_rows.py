@@ -78,3 +78,22 @@ def test_render_marks_a_file_agent_by_its_file(tmp_path, oracle_results):
     (store / "mine.json").write_text(json.dumps(mine))
     render(tmp_path)
     assert "| 1 | mine | my_agent.py:Agent | gt | 1.00 |" in (tmp_path / "README.md").read_text()
+
+
+def test_agents_declare_themselves_training_free_and_the_board_shows_no_runs_for_them(tmp_path):
+    from objsearch.eval.registry import is_training_free
+    from objsearch.leaderboard.labels import runs_label, training
+
+    def runs(agent, weights=None):
+        return runs_label(training({"agent": agent, "config": {"weights_sha256": weights}})[0])
+
+    # a prior counted on training houses records the prior's digest as weights, and is still training-free
+    assert runs("object_prior_frontier", "ab" * 32) == runs("inspect_frontier") == runs("frontier") == "–"
+    assert runs("objsearch_agents.baselines.random_agent:RandomAgent") == "–"
+    # learned agents without recorded runs count as one run, marked; grg_frontier's GRG is learned
+    assert runs("hrl_grg", "cd" * 32) == runs("grg_frontier", "cd" * 32) == runs("scene_priors") == "1*"
+    # a file agent is never imported to ask
+    marker = tmp_path / "imported"
+    agent = tmp_path / "mine.py"
+    agent.write_text(f"open({str(marker)!r}, 'w').close()\nclass Agent:\n    training_free = True\n")
+    assert not is_training_free(f"{agent}:Agent") and runs(f"{agent}:Agent") == "1*" and not marker.exists()

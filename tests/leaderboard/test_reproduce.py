@@ -3,13 +3,16 @@ random as the table's baseline) rebuilt from nothing in the test-sized configura
 ``--out``, locally (interrupted, then resumed) and with ``--executor ray`` on a local Ray
 cluster, with the same records; the dry run of Table 3; bad input."""
 
+import copy
 import json
+import os
 import re
 
 import pytest
 
 from objsearch.cli import main
 from objsearch.leaderboard import reproduce_run
+from objsearch.leaderboard.validate import verify_submission
 
 TINY = ["reproduce", "table4", "--methods", "a3c", "--config", "tiny", "--runs", "2", "--quiet"]
 ENTRIES = ("random", "a3c")
@@ -73,6 +76,13 @@ def test_tiny_table4_from_nothing_locally_and_on_ray_gives_the_same_records(repr
     assert all(
         str(out / "local" / "checkpoints" / "rooms" / "a3c") in run["loaded_checkpoint"] for run in runs.values()
     )
+    # the entry says where its weights were, so a plain verify (no $OBJSEARCH_CHECKPOINTS) replays them
+    assert trained["config"]["checkpoints"] == str(out / "local" / "checkpoints")
+    assert "OBJSEARCH_CHECKPOINTS" not in os.environ
+    assert verify_submission(trained, k=2) == []
+    moved = copy.deepcopy(trained)
+    moved["config"]["checkpoints"] = str(out / "nowhere")
+    assert "which is no folder here" in verify_submission(moved, k=2)[0]
     tables = {executor: (out / executor / "table4.md").read_text() for executor in ("local", "ray")}
     assert tables["local"].startswith("## Table 4") and "| A3C | gt | 2 | **" in tables["local"]
     assert tables["ray"].replace(str(out / "ray"), str(out / "local")) == tables["local"]

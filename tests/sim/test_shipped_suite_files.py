@@ -53,17 +53,17 @@ SHIPPED = {
         "house-size-14-shuffled-v1",
         "3ec177e3c6d3e91a85c2a3839c20ae58301fb29e1714540489bcfb8fb930d5ab",
     ),
-    "house-large-v2": ("house-large-v2-v1", "a327de0019901210bf92ddd079e30579e6ddafcc7e247f29446e5dd5c44cb624"),
-    "house-large-v2-p25": ("house-large-v2-p25-v1", "7902b318da295deccbacabed70932eaf54db7789570a2a746c0ca972e16d8557"),
-    "house-large-v2-p50": ("house-large-v2-p50-v1", "773fe11ebfc194f90aecb0fdb10a0e5baf069e9f3111596c1c0ce673cc5cdcb2"),
-    "house-large-v2-p75": ("house-large-v2-p75-v1", "10b07fd469cd0c90daea1b8805247b3a13f58dbb06172ce0edd661f4eb00c3c2"),
+    "house-large-v2": ("house-large-v2-v2", "ca04629d172dd03a63474fb14d927e6d4d6c1f4c42b55befb13dd5ac93569a3e"),
+    "house-large-v2-p25": ("house-large-v2-p25-v2", "03266bc703ec92f282f0fe9120df76f2ff5dd033be3b0ff5ca28ccaeafc59926"),
+    "house-large-v2-p50": ("house-large-v2-p50-v2", "930bab05c2607e4c17ceb90889f50715287086aa0ae9ad96ad5811a9f515f307"),
+    "house-large-v2-p75": ("house-large-v2-p75-v2", "834af414f57a0363b621870ffc6272e9051895ae15e8909d7c238f0e2e1ea038"),
     "house-large-v2-shuffled": (
-        "house-large-v2-shuffled-v1",
-        "14c8071a158dc1e11e4ea836709205b388110f33d4fbd308c58372369a48e610",
+        "house-large-v2-shuffled-v2",
+        "3e2a6f97886b83c5126b4f46bb47f66ba39fa9ae7aa2fb60e8e27d736a5926da",
     ),
     "house-large-v2-roomwise": (
-        "house-large-v2-roomwise-v1",
-        "ab6b121ab3dc139d7760057fdcd17681bb061f7bb4e72601103b837908449ff1",
+        "house-large-v2-roomwise-v2",
+        "66361d9a981036baf45ac0dd6bb602e9ad6571e5f68b61788e5e2baa11c63c67",
     ),
 }
 

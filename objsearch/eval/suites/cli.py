@@ -22,7 +22,7 @@ from __future__ import annotations
 import argparse
 import sys
 
-from objsearch.cliargs import non_negative_int, positive_int
+from objsearch.cliargs import non_negative_int, positive_float, positive_int, seed_list
 from objsearch.errors import UserError
 
 
@@ -79,6 +79,40 @@ def add_parser(subparsers) -> None:
         help="how an episode succeeds: paper (the episode ends on reaching one of the views the target fills "
         "most; 1000 steps; default) or objectnav (the agent calls STOP within 1 m of a visible target; 500 steps)",
     )
+    tier = make.add_argument_group(
+        "the large-house tier's rules",
+        "house-large-v2's are --protocol objectnav --goal-pixels 5 --goal-distance 1 --min-distance 12 "
+        "--min-room-hops 3 --max-steps 500 --seeds 1 (docs/add_a_suite.md)",
+    )
+    tier.add_argument(
+        "--goal-pixels", type=positive_int, metavar="N", help="objectnav: target pixels a goal view shows (default 20)"
+    )
+    tier.add_argument(
+        "--goal-distance",
+        type=positive_float,
+        metavar="M",
+        help="objectnav: those pixels' depth limit, metres (default 1)",
+    )
+    tier.add_argument(
+        "--min-distance",
+        type=positive_float,
+        metavar="M",
+        help="far starts: at least M metres walking from the nearest goal pose (drawn among every pose that "
+        "meets the far-start rules, instead of 6-40 steps)",
+    )
+    tier.add_argument(
+        "--min-room-hops",
+        type=positive_int,
+        metavar="K",
+        help="far starts: in a room at least K doors from every room that holds the target",
+    )
+    tier.add_argument("--max-steps", type=positive_int, metavar="N", help="the step limit (default: the protocol's)")
+    tier.add_argument(
+        "--seeds",
+        type=seed_list,
+        metavar="A,B,...",
+        help="the seeds a full evaluation plays (default: the paper's 1,5,13,45,99)",
+    )
     make.add_argument(
         "--cache-dir",
         help="observation cache the houses are rendered into (default: $OBJSEARCH_CACHE "
@@ -103,20 +137,30 @@ def name_list(text: str) -> list[str]:
 
 
 def run_list(args: argparse.Namespace) -> int:
-    """``objsearch suite list``: print every suite's name, world and options; returns 0."""
-    from objsearch.eval.suites import SUITES, suite_class
+    """``objsearch suite list``: print every suite's name, world, protocol, step limit, splits
+    with their episodes, and the standard seeds; then the options each world's suites take
+    (a suite file made by ``objsearch suite make``, ``FILE.json``, takes the houses'); returns 0."""
+    from objsearch.eval.suites import SUITES, make_suite, standard_seeds, suite_class
 
-    names = [*SUITES, "FILE.json"]  # FILE.json: any suite file made by objsearch suite make
-    width = max(map(len, names))
-    for name in names:
-        cls = suite_class(name)
-        print(f"{name:<{width}} {cls.world:<10} options: {', '.join(cls.options)}")
+    width = max(map(len, SUITES))
+    print(f"{'suite':<{width}} {'world':<9} {'protocol':<9} {'steps':>5}  splits (episodes)  seeds")
+    options = {}
+    for name in SUITES:
+        suite = make_suite(name)
+        splits = ", ".join(f"{split} {len(suite.episodes(split))}" for split in suite.splits)
+        seeds = ",".join(map(str, standard_seeds(name)))
+        print(f"{name:<{width}} {suite.world:<9} {suite.protocol:<9} {suite.max_steps:>5}  {splits}  {seeds}")
+        options.setdefault(suite.world, suite_class(name).options)
+    for world, taken in options.items():
+        also = " (and FILE.json, a suite file that objsearch suite make wrote)" if world == "house" else ""
+        print(f"options of the {world} suites{also}: {', '.join(taken)}")
     return 0
 
 
 def run_make(args: argparse.Namespace) -> int:
     """``objsearch suite make``: write a suite file from generated houses; ``UserError`` if ``--out`` is not .json."""
     from objsearch.fileio import check_writable
+    from objsearch.sim.start_rules import MadeRules
     from objsearch.sim.suite_build import suite_from_houses
     from objsearch.sim.suites import write_suite_file
 
@@ -125,8 +169,16 @@ def run_make(args: argparse.Namespace) -> int:
             f"--out {args.out}: a suite file's name ends in .json (objsearch-eval --suite tells it by that)"
         )
     check_writable(args.out, "--out")  # before the houses' caches are built, not after
+    rules = MadeRules(
+        goal_pixels=args.goal_pixels,
+        goal_distance=args.goal_distance,
+        min_distance=args.min_distance or 0.0,
+        min_room_hops=args.min_room_hops or 0,
+        max_steps=args.max_steps,
+        seeds=args.seeds,
+    )
     suite = suite_from_houses(
-        args.houses, args.out, args.targets, args.episodes, args.seed, args.cache_dir, args.starts, args.protocol
+        args.houses, args.out, args.targets, args.episodes, args.seed, args.cache_dir, args.starts, args.protocol, rules
     )
     write_suite_file(args.out, suite)
     ((split, episodes),) = suite["splits"].items()

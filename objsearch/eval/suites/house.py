@@ -22,8 +22,8 @@ file's poses are checked on its houses' pose graphs when the houses load
 from __future__ import annotations
 
 import sys
-from dataclasses import dataclass
-from functools import cached_property
+from collections.abc import Callable
+from functools import cached_property, partial
 from pathlib import Path
 
 from objsearch.errors import UserError
@@ -37,16 +37,28 @@ from objsearch.sim.suites import MADE_FIX, SUITE_NAMES, episode_task, load_house
 from objsearch.sim.world import World
 
 
-@dataclass(frozen=True)
 class HousePath:
-    """The oracle's view of a house episode: the pose graph, the goal poses, whether success
-    needs STOP, and the house itself (``world``: its spec, rooms and objects), which
-    privileged calibration agents read (``objsearch_agents.baselines.room_frontier``)."""
+    """The oracle's view of a house episode: the task (its start and goal poses), whether
+    success needs STOP, and the house itself (``world``: its spec, rooms, objects and pose
+    graph), which privileged calibration agents read (``objsearch_agents.baselines.room_frontier``).
 
-    graph: PoseGraph
-    task: HouseTask
-    stop: bool = False
-    world: World | None = None
+    ``world`` may be given as a function that loads it: it is called on first use, so listing
+    a suite's episodes (as the leaderboard's checks do) loads no house."""
+
+    def __init__(self, task: HouseTask, stop: bool, world: "World | Callable[[], World]"):
+        self.task, self.stop, self._world = task, stop, world
+
+    @property
+    def world(self) -> World:
+        """The house (loaded on first use where a loader was given)."""
+        if callable(self._world):
+            self._world = self._world()
+        return self._world
+
+    @property
+    def graph(self) -> PoseGraph:
+        """The house's pose graph."""
+        return self.world.graph
 
     def shortest_path(self) -> list[int]:
         """A shortest action sequence from the task's start pose to success: to its nearest
@@ -129,8 +141,13 @@ class HouseSuite:
             check_poses(self.data, worlds, self.name, MADE_FIX)
         return worlds
 
+    def world_of(self, house: str) -> World:
+        """The loaded house ``house`` (``worlds``: all of them load on first use)."""
+        return self.worlds[house]
+
     def episodes(self, split: str) -> list[Episode]:
-        """The fixed episodes of ``split``, in the suite file's order (ids 0, 1, ...)."""
+        """The fixed episodes of ``split``, in the suite file's order (ids 0, 1, ...); their
+        houses load when an episode's ground truth is first read (``HousePath``)."""
         out = []
         for i, item in enumerate(self.data["splits"][split]):
             task = episode_task(self.data, item)
@@ -142,9 +159,7 @@ class HouseSuite:
                     goal_name=task.target,
                     min_steps=task.min_steps,
                     describe=task.to_json(),
-                    privileged=HousePath(
-                        self.worlds[task.house].graph, task, suite_protocol(self.data).stop, self.worlds[task.house]
-                    ),
+                    privileged=HousePath(task, suite_protocol(self.data).stop, partial(self.world_of, task.house)),
                 )
             )
         return out
@@ -234,5 +249,7 @@ class HouseSuite:
 
         stem = Path(directory) / f"{record['split']}_seed{record['seed']}_ep{record['episode_id']:04d}"
         poses = [info["pose"] for _, info in trajectory]
-        views = [obs["rgb"] for obs, _ in trajectory]
-        write_episode(stem, self.worlds[episode.task.house], episode.task, poses, views, success=record["success"])
+        observations = [obs for obs, _ in trajectory]
+        write_episode(
+            stem, self.worlds[episode.task.house], episode.task, poses, observations, success=record["success"]
+        )
