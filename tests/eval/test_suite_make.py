@@ -228,10 +228,12 @@ def test_suite_make_takes_the_large_tiers_rules(made, cache_dir, tmp_path):
     """``--goal-pixels/--goal-distance`` (ObjectNav), far starts (``--min-distance``,
     ``--min-room-hops``), ``--max-steps`` and ``--seeds``: the file records them, its goal poses
     follow the rule, every start meets the far-start rule, and a full evaluation plays its seeds."""
+    from objsearch.errors import UserError
     from objsearch.house.categories import CATEGORY_IDS
     from objsearch.sim.cache import HouseCache
     from objsearch.sim.goals import GOAL_CAMERA, GoalRule, goal_poses
-    from objsearch.sim.start_rules import room_hops
+    from objsearch.sim.start_rules import MadeRules, room_hops
+    from objsearch.sim.suite_build import suite_from_houses
     from objsearch.sim.suites import load_houses, load_suite_file
 
     shutil.copytree(made / "houses", tmp_path / "houses")
@@ -268,12 +270,9 @@ def test_suite_make_takes_the_large_tiers_rules(made, cache_dir, tmp_path):
     assert results["seeds"] == [1, 2] and all(r["success"] for r in results["episodes"])
 
     assert_clean_error(run(*make, "--goal-pixels", "5", "--out", "p.json", cwd=tmp_path), "--protocol objectnav")
-    assert_clean_error(
-        run(*make, "--min-distance", "3", "--starts", "entrance", "--out", "e.json", cwd=tmp_path), "exclude each other"
-    )
-    assert_clean_error(
-        run(*make, "--targets", "bed", "--min-distance", "1000", "--out", "n.json", cwd=tmp_path),
-        "target 'bed'",
-        "1000 m walking",
-    )
-    assert not any((tmp_path / name).exists() for name in ("p.json", "e.json", "n.json"))
+    assert not (tmp_path / "p.json").exists()
+    houses, out = tmp_path / "houses", tmp_path / "n.json"
+    with pytest.raises(UserError, match="exclude each other"):
+        suite_from_houses(houses, out, starts="entrance", rules=MadeRules(min_distance=3))
+    with pytest.raises(UserError, match="target 'bed' has no goal pose with a start 1000 m walking"):
+        suite_from_houses(houses, out, ["bed"], cache_dir=cache_dir, rules=MadeRules(min_distance=1000))
