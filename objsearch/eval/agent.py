@@ -40,6 +40,8 @@ agent without it plays every protocol.
 
 from __future__ import annotations
 
+import contextlib
+import os
 from dataclasses import dataclass, field
 from typing import Any, Protocol, runtime_checkable
 
@@ -94,6 +96,21 @@ CHECKPOINTS_ENV = "OBJSEARCH_CHECKPOINTS"
 """An environment variable naming a folder laid out as the agents' shipped checkpoints
 (``SUITE/AGENT[/seedK]``): learned agents then find their training runs there instead
 (``objsearch reproduce --out`` sets it for the runs it trained)."""
+
+
+@contextlib.contextmanager
+def checkpoints_from(folder: str | None):
+    """``CHECKPOINTS_ENV`` set to ``folder`` meanwhile (unset for None: the shipped weights),
+    as it was before afterwards."""
+    before = os.environ.pop(CHECKPOINTS_ENV, None)
+    if folder is not None:
+        os.environ[CHECKPOINTS_ENV] = folder
+    try:
+        yield
+    finally:
+        os.environ.pop(CHECKPOINTS_ENV, None)
+        if before is not None:
+            os.environ[CHECKPOINTS_ENV] = before
 
 
 @dataclass(frozen=True)

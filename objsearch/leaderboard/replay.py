@@ -9,17 +9,15 @@ entry's ``verified`` record to the content that was replayed."""
 
 from __future__ import annotations
 
-import contextlib
 import hashlib
 import json
 import math
-import os
 from dataclasses import replace
 from pathlib import Path
 
 import numpy as np
 
-from objsearch.eval.agent import CHECKPOINTS_ENV
+from objsearch.eval.agent import CHECKPOINTS_ENV, checkpoints_from
 from objsearch.eval.config import EvalConfig
 from objsearch.eval.registry import is_file_spec
 from objsearch.eval.runner import run_units
@@ -140,22 +138,8 @@ def verify_submission(
             "replay loads the weights the evaluation recorded; put that folder back, or evaluate again and add "
             "the new results with --replace"
         ]
-    with _checkpoints_from(c.get("checkpoints")):
+    with checkpoints_from(c.get("checkpoints")):
         return _replayed_problems(results, k, rng)
-
-
-@contextlib.contextmanager
-def _checkpoints_from(folder: str | None):
-    """``$OBJSEARCH_CHECKPOINTS`` set to ``folder`` meanwhile (unset for None: the shipped weights)."""
-    before = os.environ.pop(CHECKPOINTS_ENV, None)
-    if folder is not None:
-        os.environ[CHECKPOINTS_ENV] = folder
-    try:
-        yield
-    finally:
-        os.environ.pop(CHECKPOINTS_ENV, None)
-        if before is not None:
-            os.environ[CHECKPOINTS_ENV] = before
 
 
 def _replayed_problems(results: dict, k: int | None, rng) -> list[str]:

@@ -167,21 +167,13 @@ def run_step(kind: str, args: dict, progress: bool = True, workers: int = 1) -> 
     """Run one step in this process (``workers``: evaluation processes); its wall seconds.
     A step with ``checkpoints`` (a plan with ``--out``) runs with ``CHECKPOINTS_ENV`` set to
     them, so that the agents (and evaluation workers) find the runs the plan trained."""
-    from objsearch.eval.agent import CHECKPOINTS_ENV
+    from objsearch.eval.agent import CHECKPOINTS_ENV, checkpoints_from
 
     start = time.monotonic()
-    before = os.environ.get(CHECKPOINTS_ENV)
-    if args.get("checkpoints"):
-        os.environ[CHECKPOINTS_ENV] = args["checkpoints"]
-    try:
+    with checkpoints_from(args.get("checkpoints") or os.environ.get(CHECKPOINTS_ENV)):  # without: as it is
         {"train": _train, "eval": _eval, "add": _add, "verify": _verify, "render": _render}[kind](
             args, progress, workers
         )
-    finally:
-        if before is None:
-            os.environ.pop(CHECKPOINTS_ENV, None)
-        else:
-            os.environ[CHECKPOINTS_ENV] = before
     return time.monotonic() - start
 
 

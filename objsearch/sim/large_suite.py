@@ -313,7 +313,7 @@ class _Starts:
 def build_tier(tier: Tier, cache_dir: str | None = None) -> dict[str, dict]:
     """The suite files of ``tier``, by name, built together from its fixed seeds (the module
     docstring)."""
-    from objsearch.sim.suite_record import _suite_record, house_entry
+    from objsearch.sim.suite_record import _suite_record, house_entry, steps_range
 
     candidates = tier.targets or SMALL_TARGETS
     parts = tuple(tier.episodes)  # the evaluation splits
@@ -401,13 +401,7 @@ def build_tier(tier: Tier, cache_dir: str | None = None) -> dict[str, dict]:
             goals,
             episodes[p],
             PROTOCOL,
-            start_steps=_steps_range(episodes[p]),
+            start_steps=steps_range([e for items in episodes[p].values() for e in items], PROTOCOL.stop),
             seeds=tier.seeds_played,
         )
     return out
-
-
-def _steps_range(splits: dict[str, list[dict]]) -> tuple[int, int]:
-    """The fewest and most moves of the drawn starts from their goals (the file's ``start_steps``)."""
-    moves = [e["min_steps"] - PROTOCOL.stop for items in splits.values() for e in items]
-    return min(moves), max(moves)

@@ -26,7 +26,7 @@ from objsearch.sim.house_task import START_STEPS, STARTS, entrance_poses
 from objsearch.sim.large_suite import build_tier_suite
 from objsearch.sim.rooms_suite import build_rooms_suite
 from objsearch.sim.start_rules import MadeRules, far_episodes, far_tables
-from objsearch.sim.suite_record import _episodes, _goal_ids, _goal_table, _suite_record, house_entry
+from objsearch.sim.suite_record import _episodes, _goal_ids, _goal_table, _suite_record, house_entry, steps_range
 from objsearch.sim.suites import (
     SHIPPED_SUITES,
     SUITE_NAMES,
@@ -323,13 +323,13 @@ def suite_from_houses(
     rng = np.random.default_rng(seed)
     if made.far:
         drawn = far_episodes(worlds, far, wanted, episodes, rng, rules.stop)
-        limit, longest = made.max_steps or rules.max_steps, max(e["min_steps"] for e in drawn)
+        start_steps = steps_range(drawn, rules.stop)
+        limit, longest = made.max_steps or rules.max_steps, start_steps[1] + rules.stop
         if longest > limit:
             raise UserError(
                 f"a start drawn {made.describe()} from its target needs {longest} steps, past the step limit "
                 f"{limit}: raise --max-steps or lower --min-distance / --min-room-hops"
             )
-        start_steps = min(e["min_steps"] for e in drawn) - rules.stop, max(e["min_steps"] for e in drawn) - rules.stop
     else:
         drawn, start_steps = _episodes(worlds, goals, wanted, episodes, rng, starts, rules.stop), START_STEPS
     return _suite_record(

@@ -139,6 +139,13 @@ def _episodes(
     return out
 
 
+def steps_range(episodes, stop: bool) -> tuple[int, int]:
+    """The fewest and most moves of the drawn starts of ``episodes`` from their goals (a file's
+    ``start_steps``; ``stop``: their ``min_steps`` count the STOP)."""
+    moves = [e["min_steps"] - stop for e in episodes]
+    return min(moves), max(moves)
+
+
 def house_entry(world: World, ref: HouseRef) -> dict:
     """The fields a suite file stores for a house (``HouseRef`` fields, with the spec hash):
     its generator seed, or its folder (``ref.path``)."""
